@@ -16,7 +16,9 @@ from animstudio.script import parse
 from animstudio.script.model import Script
 
 
-def parse_script(text: str, *, path: str = "<string>", options: EngineOptions | None = None) -> Script:
+def parse_script(
+    text: str, *, path: str = "<string>", options: EngineOptions | None = None
+) -> Script:
     """Parse ``text`` and check it against its engine (gait vocabulary, parameters, events).
 
     Raises:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-import logging
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -44,13 +43,19 @@ def is_terminal() -> bool:
 
 
 @contextmanager
-def captured_warnings() -> Iterator[None]:
-    """Show library ``warnings.warn`` and ``logging`` warnings as one-line messages, not tracebacks."""
-    import warnings
+def stages(names: list[str]) -> Iterator[Callable[[], None]]:
+    """A progress bar over named stages on a terminal; silent when stderr is piped.
 
-    logging.basicConfig(level=logging.WARNING, format="%(levelname)s: %(message)s")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        yield
-    for w in caught:
-        warn(str(w.message))
+    Yields ``advance()``, to be called once as each stage completes.
+    """
+    from tqdm import tqdm
+
+    with tqdm(total=len(names), disable=not is_terminal(), leave=False, unit="stage") as bar:
+        bar.set_description(names[0])
+
+        def advance() -> None:
+            bar.update(1)
+            if bar.n < len(names):
+                bar.set_description(names[bar.n])
+
+        yield advance

@@ -23,7 +23,9 @@ class ClipSegment:
 
     def __post_init__(self) -> None:
         if not 0 <= self.start_frame < self.end_frame:
-            raise ValueError(f"segment {self.gait!r}: need 0 <= start < end, got {self.start_frame}, {self.end_frame}")
+            raise ValueError(
+                f"segment {self.gait!r}: need 0 <= start < end, got {self.start_frame}, {self.end_frame}"
+            )
 
     @property
     def num_frames(self) -> int:
@@ -39,7 +41,9 @@ class ClipEvent:
     label: str
 
 
-def frozen_curves(curves: Mapping[str, NDArray[np.float64]], num_frames: int) -> Mapping[str, NDArray[np.float64]]:
+def frozen_curves(
+    curves: Mapping[str, NDArray[np.float64]], num_frames: int
+) -> Mapping[str, NDArray[np.float64]]:
     """Validate ``name -> (F,)`` curves, make them read-only float64 and wrap them in a read-only mapping."""
     out: dict[str, NDArray[np.float64]] = {}
     for name, values in curves.items():
@@ -96,7 +100,9 @@ class Clip:
         covered = 0
         for seg in self.segments:
             if seg.start_frame != covered:
-                raise ValueError(f"segments must tile the clip: {seg.gait!r} starts at {seg.start_frame}, expected {covered}")
+                raise ValueError(
+                    f"segments must tile the clip: {seg.gait!r} starts at {seg.start_frame}, expected {covered}"
+                )
             covered = seg.end_frame
         if self.segments and covered != n_frames:
             raise ValueError(f"segments cover {covered} frames, clip has {n_frames}")
@@ -130,6 +136,8 @@ class Clip:
 
     def local_translations(self) -> NDArray[np.float64]:
         """``(F, J, 3)`` local translations: rest offsets, with the root's replaced by ``root_translations``."""
-        out = np.broadcast_to(self.skeleton.rest_translations, (self.num_frames, self.skeleton.num_joints, 3)).copy()
+        out = np.broadcast_to(
+            self.skeleton.rest_translations, (self.num_frames, self.skeleton.num_joints, 3)
+        ).copy()
         out[:, 0] = self.root_translations
         return out

@@ -11,7 +11,9 @@ from animstudio.core.skeleton import Skeleton
 
 
 def world_transforms(
-    skeleton: Skeleton, local_rotations: NDArray[np.floating], local_translations: NDArray[np.floating]
+    skeleton: Skeleton,
+    local_rotations: NDArray[np.floating],
+    local_translations: NDArray[np.floating],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """World rotations ``(..., J, 3, 3)`` and positions ``(..., J, 3)`` from local ones.
 
@@ -34,7 +36,9 @@ def world_transforms(
     return world_m, world_t
 
 
-def joint_positions(clip: Clip, frames: NDArray[np.integer] | slice | None = None) -> NDArray[np.float64]:
+def joint_positions(
+    clip: Clip, frames: NDArray[np.integer] | slice | None = None
+) -> NDArray[np.float64]:
     """World joint positions ``(F, J, 3)`` in metres of ``clip`` (optionally only ``frames``)."""
     sel = slice(None) if frames is None else frames
     rot = clip.local_rotations[sel]

@@ -37,7 +37,12 @@ class SkinnedMesh:
             raise ValueError("joint_indices and joint_weights must both be (V, K)")
         if not np.allclose(jw.sum(axis=1), 1.0, atol=1e-5):
             raise ValueError("joint weights must sum to 1 per vertex")
-        for name, arr in (("vertices", v), ("faces", f), ("joint_indices", ji), ("joint_weights", jw)):
+        for name, arr in (
+            ("vertices", v),
+            ("faces", f),
+            ("joint_indices", ji),
+            ("joint_weights", jw),
+        ):
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
 

@@ -38,7 +38,9 @@ class Skeleton:
             if not _TOKEN.match(name):
                 raise ValueError(f"joint name {name!r} is not a valid USD identifier")
         if len(self.parents) != n or self.parents[0] != -1:
-            raise ValueError("parents must have one entry per joint and the root (joint 0) must be -1")
+            raise ValueError(
+                "parents must have one entry per joint and the root (joint 0) must be -1"
+            )
         for j, p in enumerate(self.parents[1:], start=1):
             if not 0 <= p < j:
                 raise ValueError(f"joint {self.joint_names[j]!r}: parent {p} must come before it")

@@ -45,11 +45,15 @@ class Engine(Protocol):
         ...
 
 
-_MODULES = {"som": "animstudio.engines.som", "cpg": "animstudio.engines.cpg", "obb": "animstudio.engines.obb"}
+_MODULES = {
+    "som": "animstudio.engines.som",
+    "cpg": "animstudio.engines.cpg",
+    "obb": "animstudio.engines.obb",
+}
 
 
 def get_engine(name: str) -> Engine:
     """The engine called ``name`` (one of :data:`animstudio.script.model.ENGINES`)."""
     assert name in ENGINES, name  # the parser only produces valid engine names
     module = importlib.import_module(_MODULES[name])
-    return module.ENGINE  # type: ignore[no-any-return]
+    return module.ENGINE  # type: ignore[no-any-return, unused-ignore]

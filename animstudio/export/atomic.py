@@ -33,7 +33,9 @@ def atomic_path(target: Path) -> Iterator[Path]:
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise ExportError(f"{target}: cannot create directory {target.parent}: {exc.strerror or exc}") from exc
+        raise ExportError(
+            f"{target}: cannot create directory {target.parent}: {exc.strerror or exc}"
+        ) from exc
     tmp = temporary_sibling(target)
     try:
         yield tmp

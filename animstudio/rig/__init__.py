@@ -13,4 +13,4 @@ _RIGS = {"humanoid": "animstudio.rig.humanoid", "hexapod": "animstudio.rig.hexap
 def clip_from_channels(channels: GaitChannels) -> Clip:
     """Pose the character named by ``channels.character`` with the channels (module ``rig.<character>``)."""
     module = importlib.import_module(_RIGS[channels.character])
-    return module.clip_from_channels(channels)  # type: ignore[no-any-return]
+    return module.clip_from_channels(channels)  # type: ignore[no-any-return, unused-ignore]
