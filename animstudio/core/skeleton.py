@@ -26,7 +26,8 @@ class Skeleton:
     joint_names: tuple[str, ...]
     parents: tuple[int, ...]
     rest_translations: NDArray[np.float64]
-    rest_rotations: NDArray[np.float64] = field(default=None)  # type: ignore[assignment]
+    # None means identity for every joint; __post_init__ replaces it with the (J, 4) array.
+    rest_rotations: NDArray[np.float64] = field(default=None)  # type: ignore[arg-type]
 
     def __post_init__(self) -> None:
         n = len(self.joint_names)
