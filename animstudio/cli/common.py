@@ -10,7 +10,7 @@ from typing import ParamSpec, TypeVar
 
 import click
 
-from animstudio.errors import AnimstudioError
+from animstudio.errors import AnimstudioError, ScriptError, ScriptErrors
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -23,8 +23,11 @@ def reports_errors(func: Callable[P, R]) -> Callable[P, R]:
     def wrapper(*args: P.args, **kwargs: P.kwargs) -> R:
         try:
             return func(*args, **kwargs)
+        except (ScriptError, ScriptErrors) as exc:
+            click.echo(str(exc), err=True)  # already "file:line:col: message", one per line
+            sys.exit(1)
         except AnimstudioError as exc:
-            click.echo(f"error: {exc}" if "\n" not in str(exc) else str(exc), err=True)
+            click.echo(f"error: {exc}", err=True)
             sys.exit(1)
         except KeyboardInterrupt:
             click.echo("interrupted", err=True)
