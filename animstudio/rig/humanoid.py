@@ -137,7 +137,7 @@ def _build_skeleton() -> Skeleton:
 
 
 HUMANOID: Skeleton = _build_skeleton()
-"""The shipped humanoid skeleton (25 joints, 19 animated + 6 end joints for the mesh and preview)."""
+"""The shipped humanoid skeleton: 24 joints, the 19 animated ones plus 5 end joints (head, toes, hands)."""
 
 HUMANOID_RADII: dict[str, float] = {
     "head": 0.05,  # the neck, from neck to head
