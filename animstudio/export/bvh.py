@@ -19,7 +19,7 @@ Conventions of the file written here:
   rest pose.
 - A joint without children gets an ``End Site`` continuing its bone by a quarter of its rest
   offset (5 cm along +Y for a zero-length bone): BVH needs one; it carries no motion.
-- ``Frame Time`` is ``1 / fps`` seconds.
+- ``Frame Time`` is ``1 / fps`` seconds, 10 decimals (so 1/24 reads back as 24.0 fps in float32).
 """
 
 from __future__ import annotations
@@ -122,7 +122,7 @@ def build_bvh(clip: Clip) -> str:
     cols = [0, 1, 2] + [3 + 3 * j + k for j in order for k in range(3)]
     lines.append("MOTION")
     lines.append(f"Frames: {clip.num_frames}")
-    lines.append(f"Frame Time: {1.0 / clip.fps:.8f}")
+    lines.append(f"Frame Time: {1.0 / clip.fps:.10f}")  # 10 decimals: 1/24 reads back as 24.0
     for row in channels[:, cols]:
         lines.append(_fmt(row))
     return "\n".join(lines) + "\n"
