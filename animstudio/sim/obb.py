@@ -190,9 +190,12 @@ def cycles(v: NDArray[np.bool_]) -> list[Cycle]:
     ]
 
 
-def settle_step(v: NDArray[np.bool_], *, period: int, on: int, after: int = 0) -> int | None:
-    """First switch-on at or after ``after`` from which every later cycle is ``(period, on)``."""
-    cs = [c for c in cycles(v) if c.start >= after]
+def settle_step(
+    v: NDArray[np.bool_], *, period: int, on: int, after: int = 0, before: int | None = None
+) -> int | None:
+    """First switch-on in ``[after, before)`` from which every later cycle there is ``(period, on)``."""
+    end = len(v) if before is None else before
+    cs = [c for c in cycles(v) if after <= c.start < end]
     first = None
     for c in cs:
         if (c.period, c.on) == (period, on):
