@@ -145,6 +145,26 @@ def test_hexapod_script_renders_to_a_usd_stage_that_reads_back(tmp_path: Path) -
     _, clip = rendered()
     out = tmp_path / "hexapod.usda"
     write_usd(out, clip)
+    from pxr import Usd, UsdValidation
+
+    ctx = UsdValidation.ValidationContext(
+        UsdValidation.ValidationRegistry().GetOrLoadAllValidators()
+    )
+    assert [e.GetMessage() for e in ctx.Validate(Usd.Stage.Open(str(out)))] == []
     back = read_clip(out)
     assert back.skeleton.joint_names == clip.skeleton.joint_names
     np.testing.assert_allclose(joint_positions(back), joint_positions(clip), atol=1e-4)
+
+
+def test_plots_write_pngs_and_reject_unknown_kinds(tmp_path: Path) -> None:
+    from animstudio.errors import UnknownName
+    from animstudio.plots import obb as plots
+
+    script = parse_script(SCRIPT, path="h.gait")
+    for kind in plots.KINDS:
+        out = tmp_path / f"{kind}.png"
+        plots.plot(script, kind, out, options=EngineOptions())
+        assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(UnknownName, match="footfall"):
+        plots.plot(script, "stick", tmp_path / "x.png", options=EngineOptions())
+    assert not (tmp_path / "x.png").exists()
