@@ -168,3 +168,24 @@ def test_plots_write_pngs_and_reject_unknown_kinds(tmp_path: Path) -> None:
     with pytest.raises(UnknownName, match="footfall"):
         plots.plot(script, "stick", tmp_path / "x.png", options=EngineOptions())
     assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "fps 24\ncharacter hexapod\nwave 100\ntripod 37\ntetrapod 50\n",  # steps of 4.8 frames
+        "fps 60\ncharacter hexapod\ntripod 100\nwave 3\ntetrapod 2\nwave 90\n",  # sub-step segments
+        "character hexapod\nobb r=1,9 200\nobb r=1,1 100\n",
+    ],
+)
+def test_other_frame_rates_and_short_segments_keep_feet_planted(text: str) -> None:
+    script = parse_script(text, path="x.gait")
+    ch = generate(script)
+    clip = render(script)
+    assert clip.num_frames == script.total_frames
+    pos = joint_positions(clip)
+    for leg in LEGS:
+        foot = pos[:, clip.skeleton.index(f"{leg}_foot")]
+        for a, b in _stance_runs(ch.contacts[leg]):
+            assert np.abs(foot[a:b] - foot[a]).max() < 0.01
+        assert (~ch.contacts[leg]).any() and ch.contacts[leg].any()  # every leg steps
