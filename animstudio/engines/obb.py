@@ -8,8 +8,8 @@ gait and the stance time is what changes, as in insects.
 
 Feet: a stance foot stays at a fixed world point; a swing foot lifts on a half-sine arc and lands
 where it will be centred under its hip over the coming stance (the network's next lift-off is
-known). The body moves along +X at ``STRIDE_M / stance time`` of the current gait, ramped over
-:data:`SPEED_RAMP_S` at gait changes; joint angles come from the rig's leg IK, so stance feet do
+known). The body moves along +X at ``STRIDE_M / stance time`` of the current gait, its speed
+ramped linearly over :data:`SPEED_RAMP_S` at gait changes; joint angles come from the rig's leg IK, so stance feet do
 not slide.
 """
 
@@ -134,22 +134,42 @@ def gait_schedule(script: Script) -> list[tuple[int, Gait, Segment]]:
     return out
 
 
-def _body_x(times_s: NDArray[np.float64], plan: list[tuple[float, float]]) -> NDArray[np.float64]:
-    """Body position along +X at ``times_s`` for speed plan ``[(start s, speed m/s)]``.
+def speed_knots(plan: list[tuple[float, float]]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Knots ``(times s, speeds m/s)`` of the piecewise-linear body speed for ``[(start s, speed)]``.
 
-    Speed moves linearly to each new value over :data:`SPEED_RAMP_S`; before 0 the first speed holds.
+    From each start the speed moves linearly, over :data:`SPEED_RAMP_S`, from the speed it has
+    at that moment to the new one (a segment shorter than the ramp hands over mid-ramp, so the
+    speed never jumps). Before the first knot the first speed holds, after the last the last.
     """
-    lo = min(float(times_s.min()), 0.0) - STEP_S
-    hi = float(times_s.max()) + STEP_S
-    dt = 1e-3
-    grid = np.arange(lo, hi + dt, dt)
-    speed = np.full_like(grid, plan[0][1])
-    for (start, v), (_, v_prev) in zip(plan[1:], plan[:-1], strict=True):
-        ramp = np.clip((grid - start) / SPEED_RAMP_S, 0.0, 1.0)
-        speed = np.where(grid >= start, v_prev + (v - v_prev) * ramp, speed)
-    x = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * dt)])
-    x -= np.interp(0.0, grid, x)
-    return np.interp(times_s, grid, x)
+    t: list[float] = [plan[0][0]]
+    v: list[float] = [plan[0][1]]
+    for start, speed in plan[1:]:
+        now = float(np.interp(start, t, v))
+        keep = [i for i, ti in enumerate(t) if ti < start]
+        t = [t[i] for i in keep] + [start, start + SPEED_RAMP_S]
+        v = [v[i] for i in keep] + [now, speed]
+    return np.array(t), np.array(v)
+
+
+def _integrate(
+    t: NDArray[np.float64], kt: NDArray[np.float64], kv: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Integral of the piecewise-linear speed (knots ``kt``, ``kv``) from ``kt[0]`` to ``t``."""
+    # Position at each knot: trapezoids are exact for a piecewise-linear speed.
+    kx = np.concatenate([[0.0], np.cumsum(0.5 * (kv[1:] + kv[:-1]) * np.diff(kt))])
+    k = np.clip(np.searchsorted(kt, t, side="right") - 1, 0, len(kt) - 1)
+    dt = t - kt[k]
+    nxt = np.minimum(k + 1, len(kt) - 1)
+    ramping = (k < len(kt) - 1) & (dt >= 0)  # before the first knot and after the last: constant
+    slope = np.where(ramping, (kv[nxt] - kv[k]) / np.maximum(kt[nxt] - kt[k], 1e-12), 0.0)
+    return kx[k] + kv[k] * dt + 0.5 * slope * dt**2
+
+
+def body_x(times_s: NDArray[np.float64], plan: list[tuple[float, float]]) -> NDArray[np.float64]:
+    """Body position along +X (m, 0 at time 0) at ``times_s``: the exact integral of the speed."""
+    kt, kv = speed_knots(plan)
+    t = np.asarray(times_s, dtype=np.float64)
+    return _integrate(t, kt, kv) - _integrate(np.zeros(1), kt, kv)[0]
 
 
 def step_of(times_s: NDArray[np.float64], num_steps: int) -> NDArray[np.int64]:
@@ -182,7 +202,7 @@ def foot_paths(
         # Where each stance stands: centred between the hip at touchdown and at the next lift-off.
         td_times = np.concatenate([[t0 - stance_s], (lifts[:-1] + 1) * STEP_S]).astype(np.float64)
         lift_times = (lifts * STEP_S).astype(np.float64)
-        stand_x = nx + 0.5 * (_body_x(td_times, plan) + _body_x(lift_times, plan))
+        stand_x = nx + 0.5 * (body_x(td_times, plan) + body_x(lift_times, plan))
         # Stance k lasts from touchdown k to lift-off k; frames after the last lift-off cannot be
         # placed, so the network is always run past the clip's end.
         idx = np.searchsorted(lifts, step, side="right")  # lift-offs at or before this step
@@ -216,8 +236,9 @@ def generate(script: Script) -> GaitChannels:
     periods = np.array([schedule[i][1].period for i in seg_of_step])
     plan = [(s * STEP_S, STRIDE_M / ((g.period - 1) * STEP_S)) for s, g, _ in schedule]
     plan[0] = (0.0, plan[0][1])
-    body_x = _body_x(times, plan)
-    root = np.stack([body_x, np.full(n_frames, rig.BODY_HEIGHT_M), np.zeros(n_frames)], axis=-1)
+    root = np.stack(
+        [body_x(times, plan), np.full(n_frames, rig.BODY_HEIGHT_M), np.zeros(n_frames)], axis=-1
+    )
     feet, contact = foot_paths(run, times, plan, periods)
     angles: dict[str, NDArray[np.float64]] = {}
     signals: dict[str, NDArray[np.float64]] = {}

@@ -189,3 +189,16 @@ def test_other_frame_rates_and_short_segments_keep_feet_planted(text: str) -> No
         for a, b in _stance_runs(ch.contacts[leg]):
             assert np.abs(foot[a:b] - foot[a]).max() < 0.01
         assert (~ch.contacts[leg]).any() and ch.contacts[leg].any()  # every leg steps
+
+
+def test_body_speed_ramps_without_jumps_even_across_short_segments() -> None:
+    from animstudio.engines.obb import SPEED_RAMP_S, body_x
+
+    plan = [(0.0, 0.08), (4.0, 0.2), (4.2, 0.4), (7.0, 0.1)]  # 4.0-4.2 s is shorter than the ramp
+    t = np.linspace(-1.0, 9.0, 100_001)
+    v = np.gradient(body_x(t, plan), t)
+    assert body_x(np.zeros(1), plan)[0] == 0.0
+    np.testing.assert_allclose(v[t < 4.0], 0.08, atol=1e-9)
+    np.testing.assert_allclose(v[(t > 4.2 + SPEED_RAMP_S + 0.01) & (t < 7.0)], 0.4, atol=1e-9)
+    np.testing.assert_allclose(v[t > 7.0 + SPEED_RAMP_S + 0.01], 0.1, atol=1e-9)
+    assert np.abs(np.diff(v)).max() < 1e-3  # continuous: largest change over 0.1 ms
