@@ -42,6 +42,7 @@ class Word:
     column: int
 
     def span(self, path: str) -> SourceSpan:
+        """The span of the whole word."""
         return SourceSpan(path, self.line, self.column, len(self.text))
 
     def at(self, path: str, offset: int) -> SourceSpan:
@@ -55,15 +56,8 @@ class Item:
 
     words: tuple[Word, ...]
 
-    @property
-    def first(self) -> Word:
-        return self.words[0]
-
-    @property
-    def text(self) -> str:
-        return " ".join(w.text for w in self.words)
-
     def span(self, path: str) -> SourceSpan:
+        """From the first word's first character to the last word's last character."""
         first, last = self.words[0], self.words[-1]
         return SourceSpan(
             path, first.line, first.column, last.column + len(last.text) - first.column

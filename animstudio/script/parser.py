@@ -60,6 +60,7 @@ MAX_SEED = 2**63 - 1  # fits a signed 64-bit integer wherever an engine passes i
 MAX_BLEND_FRAMES = int(MAX_DURATION_S) * MAX_FPS
 MAX_PUSH_N = 5000
 DEFAULT_PUSH_S = 0.1
+MIN_PUSH_S = Decimal("0.001")  # shorter pushes are below any simulator's time step (and float)
 
 _NAME = re.compile(r"[a-z][a-z0-9_]*", re.ASCII)
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_]*", re.ASCII)
@@ -312,7 +313,8 @@ class _Parser:
                 f"expected a force after 'push', got '{force_word.text}' (e.g. 'push 350N')",
             )
         force = parse_force(force_word, path=self.path)
-        if not 0 < force <= MAX_PUSH_N:
+        # float(force) > 0 too: a written 1e-400 N is positive but would become a 0.0 N push.
+        if not 0 < force <= MAX_PUSH_N or float(force) == 0:
             raise self.error(
                 force_word,
                 f"push force {force_word.text} is out of range: more than 0 N, at most "
@@ -346,11 +348,12 @@ class _Parser:
 
     def push_seconds(self, word: Word) -> float:
         duration: Duration = parse_duration(word, path=self.path)
-        if duration.value <= 0:
+        seconds = duration.value / (self.fps if duration.unit == "frames" else 1)
+        if seconds <= 0:
             raise self.error(word, f"push duration {word.text} is zero: a push lasts more than 0 s")
-        if duration.value / (self.fps if duration.unit == "frames" else 1) > Decimal(
-            MAX_DURATION_S
-        ):
+        if seconds < MIN_PUSH_S:
+            raise self.error(word, f"push duration {word.text} is shorter than 1 ms")
+        if seconds > Decimal(MAX_DURATION_S):
             raise self.error(word, f"push duration {word.text} is longer than 1 hour")
         return duration.to_seconds(self.fps)
 

@@ -65,6 +65,7 @@ class Duration:
         return int(frames)
 
     def to_seconds(self, fps: int) -> float:
+        """Seconds: as written, or ``frames / fps`` (not rounded to frames)."""
         return float(self.value) / fps if self.unit == "frames" else float(self.value)
 
 

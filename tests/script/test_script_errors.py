@@ -211,6 +211,11 @@ CASES: list[tuple[str, str]] = [
     ("push 350N 0\nwalk 1", "1:11: push duration 0 is zero: a push lasts more than 0 s"),
     ("push 350N -1s\nwalk 1", f"1:11: negative duration '-1s': {DURATION_HELP}"),
     ("push 350N 3601s\nwalk 1", "1:11: push duration 3601s is longer than 1 hour"),
+    ("push 350N 0.0009s\nwalk 1", "1:11: push duration 0.0009s is shorter than 1 ms"),
+    (
+        "push 1e-400N\nwalk 1".replace("1e-400", "0." + "0" * 400 + "1"),
+        "1:6: push force 0." + "0" * 400 + "1N is out of range: more than 0 N, at most 5000 N",
+    ),
     (
         "push 350N 1.5\nwalk 1",
         "1:11: duration '1.5' is not a whole number of frames (did you mean '1.5s'?)",

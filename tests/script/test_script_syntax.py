@@ -177,6 +177,7 @@ def test_push_event_defaults_and_frame() -> None:
         ("push 5000N 6", 5000.0, "backward", 0.2),  # 6 frames at 30 fps
         ("push .5N forward 1s", 0.5, "forward", 1.0),
         ("push 0.001N 0.001s", 0.001, "backward", 0.001),  # not rounded to frames
+        ("push 1N 1", 1.0, "backward", 1 / 30),
     ],
 )
 def test_push_event_forms(event: str, force: float, direction: str, duration_s: float) -> None:
