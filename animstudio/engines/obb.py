@@ -103,6 +103,14 @@ class _ObbEngine:
         for seg in script.segments:
             if seg.gait in GAIT_NAMES:
                 errors.extend(_segment_errors(seg))
+        for setting, engine in (("blend", "som"), ("reinit", "cpg")):
+            span = script.setting_span(setting)
+            if span is not None:
+                errors.append(
+                    ScriptError(
+                        span, f"setting '{setting}' is for engine {engine}; obb does not use it"
+                    )
+                )
         for ev in script.events:
             errors.append(
                 ScriptError(

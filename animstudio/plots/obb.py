@@ -52,8 +52,15 @@ def _segments(ax: Axes, channels: GaitChannels, *, labels: bool) -> None:
 def neurons_figure(channels: GaitChannels, title: str) -> Figure:
     """Stance and swing neuron outputs of every leg over time, segment boundaries dashed."""
     t = np.arange(channels.num_frames) / channels.fps
-    fig = Figure(figsize=(11, 7), layout="constrained")
-    axes = fig.subplots(len(LEGS), 1, sharex=True)
+    fig = Figure(figsize=(11, 8), layout="constrained")
+    ax_r, *axes = fig.subplots(len(LEGS) + 1, 1, sharex=True, height_ratios=[0.8] + [1] * len(LEGS))
+    # Top: the swing reversibility each leg runs with (eq. (3): it changes leg by leg).
+    for leg in LEGS:
+        ax_r.step(t, channels.signals[f"{leg}_extensor_r"], where="post", lw=1, label=leg)
+    ax_r.set_ylabel("r swing", rotation=0, ha="right", va="center")
+    ax_r.legend(loc="upper right", ncols=6, fontsize=7)
+    ax_r.set_ylim(0, 10.5)
+    _segments(ax_r, channels, labels=True)
     for ax, leg in zip(axes, LEGS, strict=True):
         stance = channels.signals[f"{leg}_stance_neuron"]
         swing = channels.signals[f"{leg}_swing_neuron"]
@@ -64,9 +71,9 @@ def neurons_figure(channels: GaitChannels, title: str) -> Figure:
         ax.set_yticks([0.5, 1.7], ["swing", "stance"])
         ax.set_ylabel(leg, rotation=0, ha="right", va="center", fontweight="bold")
         ax.set_ylim(-0.1, 2.3)
-        _segments(ax, channels, labels=ax is axes[0])
+        _segments(ax, channels, labels=False)
     axes[-1].set_xlabel("time (s)")
-    axes[0].legend(loc="upper right", ncols=2, fontsize=8, bbox_to_anchor=(1.0, 1.6))
+    axes[0].legend(loc="upper left", ncols=2, fontsize=7)
     fig.suptitle(title)
     return fig
 

@@ -202,3 +202,8 @@ def test_body_speed_ramps_without_jumps_even_across_short_segments() -> None:
     np.testing.assert_allclose(v[(t > 4.2 + SPEED_RAMP_S + 0.01) & (t < 7.0)], 0.4, atol=1e-9)
     np.testing.assert_allclose(v[t > 7.0 + SPEED_RAMP_S + 0.01], 0.1, atol=1e-9)
     assert np.abs(np.diff(v)).max() < 1e-3  # continuous: largest change over 0.1 ms
+
+
+def test_settings_of_other_engines_are_located_errors() -> None:
+    (msg,) = problems("character hexapod\nblend 5\nwave 30\n")
+    assert msg.startswith("h.gait:2:7:") and "engine som" in msg
