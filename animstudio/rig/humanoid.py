@@ -17,8 +17,10 @@ Channel mapping (:func:`clip_from_channels`), all angles about +Z (the sagittal 
 * toe joint = ``FOOT_REST_DEG - foot`` while the foot is in contact with its heel up (``foot <
   FOOT_REST_DEG``), which keeps the toes flat on the floor at push-off; otherwise neutral, reached
   by an exponential relaxation (``TOE_RELAX_S``) after lift-off so the toes do not pop;
-* arms swing opposite the legs: shoulder = ``ARM_SWING`` x the other side's thigh; the elbow flexes
-  ``ELBOW_BASE_DEG`` plus ``ELBOW_FORWARD_GAIN`` x the forward part of the swing;
+* arms swing opposite the legs: shoulder = ``ARM_SWING`` x the other side's thigh about its
+  running mean (a centred ``ARM_CENTRE_S`` window), so the arms swing symmetrically about hanging
+  even when a gait's thigh angle is mostly forward (climbing); the elbow flexes ``ELBOW_BASE_DEG``
+  plus ``ELBOW_FORWARD_GAIN`` x the forward part of the swing;
 * trunk: the pelvis keeps the channels' root exactly (no rotation, so the legs are exactly the
   channels'); the spine leans forward with walking speed and the chest counter-rotates about +Y
   with the legs (right shoulder forward when the left thigh is forward).
@@ -67,7 +69,9 @@ TOE_LENGTH_M = 0.06
 """Toe joint (metatarsal heads) to the toe tip."""
 
 ARM_SWING = 0.6
-"""Shoulder angle per degree of the opposite thigh angle."""
+"""Shoulder angle per degree of the opposite thigh angle (about its running mean)."""
+ARM_CENTRE_S = 1.0
+"""Window of the thigh's running mean the arm swing is centred on (about one stride)."""
 ELBOW_BASE_DEG = 10.0
 ELBOW_FORWARD_GAIN = 0.5
 CHEST_TWIST = 0.15
@@ -230,7 +234,8 @@ def clip_from_channels(channels: GaitChannels) -> Clip:
         rot_z[:, skel.index(f"{side}_toe")] = _toe_angle(foot, contact, channels.fps)
         curves[f"{side}_knee_flexion_deg"] = np.degrees(thigh - shank)
     for side, other in (("left", "right"), ("right", "left")):
-        swing = ARM_SWING * angles[f"{other}_thigh_deg"]
+        thigh = angles[f"{other}_thigh_deg"]
+        swing = ARM_SWING * (thigh - _centred_mean(thigh, ARM_CENTRE_S, channels.fps))
         rot_z[:, skel.index(f"{side}_shoulder")] = swing
         elbow = np.radians(ELBOW_BASE_DEG) + ELBOW_FORWARD_GAIN * np.maximum(swing, 0.0)
         rot_z[:, skel.index(f"{side}_elbow")] = elbow
@@ -274,7 +279,13 @@ def _forward_lean_deg(channels: GaitChannels) -> NDArray[np.float64]:
         return np.full(n, 0.0)
     xz = channels.root_position_m[:, [0, 2]]
     speed = np.linalg.norm(np.gradient(xz, axis=0), axis=1) * channels.fps
-    width = max(1, round(LEAN_SMOOTH_S * channels.fps)) | 1  # odd, so the window is centred
-    padded = np.pad(speed, width // 2, mode="edge")
-    smooth = np.convolve(padded, np.full(width, 1.0 / width), mode="valid")
-    return np.minimum(LEAN_DEG_PER_MPS * smooth, LEAN_MAX_DEG)
+    return np.minimum(
+        LEAN_DEG_PER_MPS * _centred_mean(speed, LEAN_SMOOTH_S, channels.fps), LEAN_MAX_DEG
+    )
+
+
+def _centred_mean(x: NDArray[np.float64], window_s: float, fps: float) -> NDArray[np.float64]:
+    """Moving average over an odd number of frames (about ``window_s``), edges held constant."""
+    width = max(1, round(window_s * fps)) | 1  # odd, so the window is centred on each frame
+    padded = np.pad(x, width // 2, mode="edge")
+    return np.convolve(padded, np.full(width, 1.0 / width), mode="valid")

@@ -145,10 +145,14 @@ def test_known_leg_pose_gives_hand_computed_joint_positions() -> None:
         np.testing.assert_allclose(_world(clip, name)[0], want, atol=1e-6, err_msg=name)
 
 
-def test_known_arm_pose_swings_opposite_the_leg_with_elbow_flexion() -> None:
-    # Both thighs at 20 deg: no chest twist, no lean (static root); each shoulder = 0.6 * 20 deg,
-    # elbow = 10 deg + 0.5 * 12 deg = 16 deg, all about +Z.
-    clip = clip_from_channels(_pose(thigh=20.0))
+def test_known_arm_pose_swings_about_the_thigh_mean_with_elbow_flexion() -> None:
+    # Both thighs 8 + 20 sin(2 pi k / 31) at 30 fps: the 31-frame running mean is exactly 8 deg
+    # inside the clip, so each shoulder turns 0.6 * 20 sin(...) about +Z and the elbow
+    # 10 deg + 0.5 * max(shoulder, 0). Equal thighs: no chest twist; static root: no lean.
+    n, period = 93, 31
+    k = np.arange(n)
+    thigh = 8.0 + 20.0 * np.sin(2.0 * np.pi * k / period)
+    clip = clip_from_channels(_pose(n, thigh=thigh))
     _, rest = rest_world_transforms(clip.skeleton)
     sh, el, wr = (clip.skeleton.index(f"left_{n}") for n in ("shoulder", "elbow", "wrist"))
 
@@ -156,12 +160,20 @@ def test_known_arm_pose_swings_opposite_the_leg_with_elbow_flexion() -> None:
         c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
         return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]])
 
-    shoulder = rest[sh]
-    elbow = shoulder + rot_z(12.0, rest[el] - rest[sh])
-    wrist = elbow + rot_z(28.0, rest[wr] - rest[el])
-    np.testing.assert_allclose(_world(clip, "left_elbow")[0], elbow, atol=1e-6)
-    np.testing.assert_allclose(_world(clip, "left_wrist")[0], wrist, atol=1e-6)
-    assert wrist[0] > 0.1  # the hand is forward
+    for frame in (39, 54):  # arm forward, arm back
+        shoulder_deg = 0.6 * 20.0 * np.sin(2.0 * np.pi * frame / period)
+        elbow_deg = 10.0 + 0.5 * max(shoulder_deg, 0.0)
+        elbow = rest[sh] + rot_z(shoulder_deg, rest[el] - rest[sh])
+        wrist = elbow + rot_z(shoulder_deg + elbow_deg, rest[wr] - rest[el])
+        np.testing.assert_allclose(_world(clip, "left_elbow")[frame], elbow, atol=1e-6)
+        np.testing.assert_allclose(_world(clip, "left_wrist")[frame], wrist, atol=1e-6)
+    assert _world(clip, "left_wrist")[39, 0] > 0.15 > -0.05 > _world(clip, "left_wrist")[54, 0]
+
+
+def test_arms_hang_when_the_thighs_hold_still() -> None:
+    clip = clip_from_channels(_pose(5, thigh=35.0))
+    q = clip.local_rotations[:, clip.skeleton.index("left_shoulder")]
+    np.testing.assert_allclose(q, np.tile([1.0, 0, 0, 0], (5, 1)), atol=1e-7)
 
 
 def test_left_arm_follows_the_right_thigh(synthetic_humanoid_channels) -> None:  # type: ignore[no-untyped-def]
