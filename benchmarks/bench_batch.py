@@ -1,0 +1,133 @@
+"""Batch throughput: 200 ten-second Kohonen scripts to ``.usdc`` with 1 and 2 worker processes.
+
+Targets (issue 5): near-linear scaling from 1 to 2 workers, and the whole 200-script batch under
+30 s on the 2-core machine. Prints, per run: wall time, scripts/s, speed-up over 1 worker,
+parallel efficiency, and peak resident memory per worker process (``ru_maxrss`` reported by
+each worker with its results, max over that worker's jobs). The baseline, measured in the same
+process first, is the plain sequential loop (parse -> render -> write_usd, no pool, no
+manifest): the pool's overhead and scaling read against it.
+
+Scripts are random but seeded (``numpy.random.default_rng(SEED)``): 2-5 segments of walk / run /
+climb adding up to exactly 10 s (300 frames at 30 fps).
+
+Run:  python benchmarks/bench_batch.py [--scripts 200] [--workers 1 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import tempfile
+import time
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+from animstudio import pipeline
+from animstudio.batch import run_batch
+from animstudio.export.usd import write_usd
+
+SEED = 5
+GAITS = ("walk", "run", "climb")
+FRAMES = 300  # 10 s at 30 fps
+
+
+def make_scripts(directory: Path, count: int, rng: np.random.Generator) -> list[Path]:
+    paths = []
+    for i in range(count):
+        n_seg = int(rng.integers(2, 6))
+        cuts = np.sort(rng.choice(np.arange(30, FRAMES - 29), size=n_seg - 1, replace=False))
+        lengths = np.diff(np.concatenate([[0], cuts, [FRAMES]]))
+        body = " / ".join(f"{rng.choice(GAITS)} {int(n)}" for n in lengths)
+        path = directory / f"shot{i // 50:02d}" / f"take{i:03d}.gait"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(
+            f"# benchmark script {i}\nengine som\ncharacter humanoid\nfps 30\n\n{body}\n"
+        )
+        paths.append(path)
+    return paths
+
+
+def sequential_baseline(paths: list[Path], out_dir: Path) -> float:
+    start = time.perf_counter()
+    for p in paths:
+        clip = pipeline.render(pipeline.load_script(p))
+        write_usd(out_dir / f"{p.stem}.usdc", clip)
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--scripts", type=int, default=200)
+    parser.add_argument("--workers", type=int, nargs="+", default=[1, 2])
+    args = parser.parse_args()
+
+    with tempfile.TemporaryDirectory() as tmp:
+        root = Path(tmp)
+        paths = make_scripts(root / "in", args.scripts, np.random.default_rng(SEED))
+        print(
+            f"{args.scripts} scripts x {FRAMES} frames (10 s at 30 fps) -> .usdc; {os.cpu_count()} CPUs"
+        )
+        # Warm the import/weights caches once so the baseline measures rendering, not imports.
+        pipeline.render(pipeline.load_script(paths[0]))
+        (root / "seq").mkdir()
+        base_s = sequential_baseline(paths, root / "seq")
+        base_rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+        rows = [
+            (
+                "sequential loop (baseline)",
+                "1",
+                base_s,
+                args.scripts / base_s,
+                "-",
+                "-",
+                f"{base_rss:.0f}",
+            )
+        ]
+        one_worker_s = None
+        for workers in args.workers:
+            report = run_batch(root / "in", root / f"out{workers}", formats=("usdc",), jobs=workers)
+            assert report.count("rendered") == args.scripts, report.failed[:3]
+            peak: dict[str, float] = defaultdict(float)
+            for e in report.entries:
+                assert e.worker is not None and e.worker_peak_rss_mb is not None
+                peak[e.worker] = max(peak[e.worker], e.worker_peak_rss_mb)
+            wall = report.wall_s
+            if workers == 1:
+                one_worker_s = wall
+            speedup = (one_worker_s / wall) if one_worker_s else float("nan")
+            rows.append(
+                (
+                    "animstudio batch -j N",
+                    str(workers),
+                    wall,
+                    args.scripts / wall,
+                    f"{speedup:.2f}x",
+                    f"{100 * speedup / workers:.0f}%",
+                    " / ".join(f"{v:.0f}" for v in sorted(peak.values())),
+                )
+            )
+        header = (
+            "run",
+            "workers",
+            "wall s",
+            "scripts/s",
+            "vs 1 worker",
+            "efficiency",
+            "peak RSS MiB per worker",
+        )
+        widths = [max(len(str(h)), 10) for h in header]
+        print("  ".join(h.ljust(w) for h, w in zip(header, widths, strict=True)))
+        for name, w, wall, rate, sp, eff, rss in rows:
+            cells = (name, w, f"{wall:.2f}", f"{rate:.1f}", sp, eff, rss)
+            print("  ".join(str(c).ljust(wd) for c, wd in zip(cells, widths, strict=True)))
+        best = min(r[2] for r in rows[1:])
+        print(
+            f"target: whole batch < 30 s -> best {best:.1f} s ({'met' if best < 30 else 'NOT met'})"
+        )
+
+
+if __name__ == "__main__":
+    main()

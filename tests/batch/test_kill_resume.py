@@ -1,0 +1,116 @@
+"""Crash safety for real: SIGKILL a running batch, check every file, re-run, check again."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from batch_checks import check_output, make_tree, read_manifest
+
+from animstudio.batch.discovery import is_temporary
+from animstudio.batch.manifest import sha256_file
+from animstudio.export.atomic import temporary_sibling
+
+REPO = Path(__file__).resolve().parents[2]
+FORMATS = "usdc,usda,bvh,csv"
+# 12 real Kohonen scripts of 2-4 s; with 2 workers the batch runs long enough to be killed mid-way.
+SCRIPTS = {
+    f"{'shots/' if i % 2 else ''}s{i:02d}.gait": f"walk {2 + i % 3}s / run 30 / climb 20\n"
+    for i in range(12)
+}
+KILL_AFTER = 3  # finished scripts in the manifest before the kill
+
+
+def _start(inp: Path, out: Path) -> subprocess.Popen[bytes]:
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
+    }
+    cmd = [sys.executable, "-m", "animstudio", "batch", str(inp), "-o", str(out)]
+    # Own session: the kill takes the whole process group (CLI and its workers), like a crash.
+    return subprocess.Popen(
+        [*cmd, "--format", FORMATS, "-j", "2"],
+        env=env,
+        start_new_session=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+
+
+def _finished(out: Path) -> dict:
+    # A half-written manifest would raise JSONDecodeError here and fail the test.
+    try:
+        return {k: v for k, v in read_manifest(out).items() if v["status"] == "ok"}
+    except FileNotFoundError:
+        return {}
+
+
+def _check_all_files(out: Path) -> list[Path]:
+    """Every non-temporary file under ``out`` is complete; returns the temporaries found."""
+    temporaries = []
+    for path in out.rglob("*"):
+        if not path.is_file():
+            continue
+        if is_temporary(path):
+            temporaries.append(path)
+        elif path.suffix.lstrip(".") in FORMATS.split(","):
+            found = check_output(path)
+            assert found["frames"] > 0, path
+    json.loads((out / "manifest.json").read_text())
+    return temporaries
+
+
+@pytest.mark.slow
+def test_sigkill_mid_batch_then_resume(tmp_path: Path) -> None:
+    inp = make_tree(tmp_path / "in", SCRIPTS)
+    out = tmp_path / "out"
+    proc = _start(inp, out)
+    deadline = time.monotonic() + 240
+    while len(_finished(out)) < KILL_AFTER:
+        assert proc.poll() is None, f"batch ended before the kill: {proc.communicate()}"
+        assert time.monotonic() < deadline, "batch made no progress"
+        time.sleep(0.01)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate()
+    assert proc.returncode == -signal.SIGKILL
+
+    before = _finished(out)
+    assert KILL_AFTER <= len(before) < len(SCRIPTS), "the kill did not land mid-way"
+    _check_all_files(out)  # no truncated output anywhere, whatever was in flight
+    for entry in before.values():
+        for rec in entry["outputs"].values():
+            assert sha256_file(out / rec["path"]) == rec["sha256"]
+    stamps = {
+        rec["path"]: (out / rec["path"]).stat().st_ino
+        for e in before.values()
+        for rec in e["outputs"].values()
+    }
+    # A stray temporary as an interrupted writer leaves it (half a file), whatever the timing was.
+    stray = temporary_sibling(out / "s00.usdc")
+    stray.write_bytes(b"PXR-USDC\x00half")
+
+    proc = _start(inp, out)
+    stdout, stderr = proc.communicate(timeout=300)
+    assert proc.returncode == 0, stderr.decode()
+    summary = stdout.decode()
+    rendered = len(SCRIPTS) - len(before)
+    assert f"{rendered} rendered, {len(before)} up to date, 0 failed" in summary
+    assert "leftover temporary file(s)" in summary
+
+    after = read_manifest(out)
+    assert sorted(after) == sorted(SCRIPTS) and all(e["status"] == "ok" for e in after.values())
+    for rel, entry in before.items():
+        assert after[rel] == entry  # the same record: skipped, not re-rendered
+    for path, inode in stamps.items():
+        assert (out / path).stat().st_ino == inode  # an atomic re-render would be a new inode
+    assert _check_all_files(out) == []  # temporaries cleaned
+    for entry in after.values():
+        for rec in entry["outputs"].values():
+            assert sha256_file(out / rec["path"]) == rec["sha256"]
+            assert check_output(out / rec["path"])["frames"] == entry["frames"]
