@@ -29,6 +29,8 @@ from animstudio.errors import DataError
 from animstudio.export.usd import KEY_EVENTS, KEY_NOTES, KEY_SEGMENTS
 
 _SCALE_TOL = 1e-4
+MAX_FRAMES = 10_000_000
+"""More time codes than this (over 3 days at 30 fps) is a corrupt time range, not an animation."""
 _TRANSLATION_TOL_M = 1e-5
 
 
@@ -83,10 +85,8 @@ def _read_stage(stage: Usd.Stage, where: str) -> Clip:
     rest_rot = quat.from_matrix(np.swapaxes(rest[:, :3, :3], -1, -2))
     rest_trans = rest[:, 3, :3]
 
-    start = int(np.floor(stage.GetStartTimeCode()))
-    end = int(np.floor(stage.GetEndTimeCode()))
     fps = float(stage.GetTimeCodesPerSecond())
-    frames = np.arange(start, max(start, end) + 1)
+    frames = _frames(stage, skel_query, where)
     trans, rots = _animation(skel_query, joint_paths, frames, rest_trans, rest_rot, where)
 
     moving = np.abs(trans[:, 1:] - trans[:1, 1:]).max(initial=0.0)
@@ -109,6 +109,20 @@ def _read_stage(stage: Usd.Stage, where: str) -> Clip:
         mesh=_mesh(cache, root, skel_prim, joint_paths, where),
         notes=notes,
     )
+
+
+def _frames(stage: Usd.Stage, skel_query: UsdSkel.SkeletonQuery, where: str) -> NDArray[np.int64]:
+    """Integer time codes to sample: the stage's time range, else the animation's samples."""
+    if stage.HasAuthoredTimeCodeRange():
+        start, end = stage.GetStartTimeCode(), stage.GetEndTimeCode()
+    else:  # files from other tools may leave the range out
+        anim_query = skel_query.GetAnimQuery()
+        times = list(anim_query.GetJointTransformTimeSamples()) if anim_query else []
+        start, end = (min(times), max(times)) if times else (0.0, 0.0)
+    if not (np.isfinite(start) and np.isfinite(end)) or end - start + 1 > MAX_FRAMES:
+        raise DataError(f"{where}: unusable time range {start} .. {end}")
+    first = int(np.floor(start))
+    return np.arange(first, max(first, int(np.floor(end))) + 1)
 
 
 def _skel_root(stage: Usd.Stage, where: str) -> UsdSkel.Root:

@@ -142,3 +142,28 @@ def test_read_clip_agrees_with_the_rotation_helpers(
     np.testing.assert_allclose(
         quat.rotate(back.local_rotations, v), quat.rotate(clip.local_rotations, v), atol=1e-6
     )
+
+
+def test_without_a_time_range_the_animation_samples_give_the_frames(
+    tmp_path: Path, synthetic_humanoid_clip
+) -> None:  # type: ignore[no-untyped-def]
+    clip = synthetic_humanoid_clip(12)
+    stage = build_stage(clip)
+    layer = stage.GetRootLayer()
+    layer.ClearStartTimeCode()
+    layer.ClearEndTimeCode()
+    assert not stage.HasAuthoredTimeCodeRange()
+    path = tmp_path / "norange.usda"
+    layer.Export(str(path))
+    back = read_clip(path)
+    assert back.num_frames == 12
+    assert _same_rotation(back.local_rotations, clip.local_rotations).max() <= 1e-6
+
+
+def test_absurd_time_range_is_a_data_error(tmp_path: Path, synthetic_humanoid_clip) -> None:  # type: ignore[no-untyped-def]
+    stage = build_stage(synthetic_humanoid_clip(3))
+    stage.SetEndTimeCode(1e12)
+    path = tmp_path / "huge.usda"
+    stage.GetRootLayer().Export(str(path))
+    with pytest.raises(DataError, match="unusable time range"):
+        read_clip(path)
