@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from animstudio.cli import main
-from animstudio.cli.common import is_terminal, reports_errors
+from animstudio.cli.common import is_terminal, reports_errors, warn
 from animstudio.errors import DataError
 
 
@@ -63,7 +63,7 @@ def train_command(
     from tqdm import tqdm
 
     from animstudio.gaitdata import load_training_set
-    from animstudio.som.training import TrainingSettings
+    from animstudio.som.training import TrainingSettings, unreproduced_patterns
     from animstudio.som.weights import DEFAULT_SEED, save_weights, train_weights
 
     if output.suffix != ".npz":
@@ -81,6 +81,17 @@ def train_command(
     with tqdm(total=presentations, disable=not is_terminal(), leave=False, unit="pattern") as bar:
         weights = train_weights(data, settings, progress=bar.update)
     save_weights(output, weights)
+    bad = unreproduced_patterns(weights.trained, data)
+    if bad.size:
+        frames = ", ".join(
+            f"{data.gait_names[data.gait_index[p]]} frame "
+            f"{p - int(data.cycle_frames[: data.gait_index[p]].sum())}"
+            for p in bad
+        )
+        warn(
+            f"{bad.size} training pattern(s) share their winning unit with another and will not "
+            f"replay exactly ({frames}); another --seed usually separates them"
+        )
     won = int(weights.trained.won.sum())
     click.echo(
         f"wrote {output} ({shape[0]}x{shape[1]} map, {presentations} presentations, "

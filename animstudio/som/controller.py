@@ -7,8 +7,14 @@ completion becomes the leg's input for the following frame. A gait change swaps 
 keeps the completion.
 
 Never-won units: a unit that never won a training presentation holds no pattern output (its
-output is zeros) but still has an input weight, and may be the nearest unit to some input. The
-winner search is therefore restricted to units of the ``won`` mask; docs/som-controller.md.
+output is zeros) but still has an input weight, and may be the nearest unit to some input, so
+it must never win. The search is restricted further, by default (``search="pattern"``), to the
+units that win a training pattern with the final weights: most units that ever won did so early,
+when the neighbourhood was wide, and were then dragged elsewhere as neighbours; they keep an
+early pattern's output at a place where it no longer belongs. With them in the search
+(``search="won"``, the ever-won mask) the shipped map starts the walking left leg (input
+completion 0.5) on a stale unit at completion 0.4996 holding frame 15 of 35, and the legs stay
+2.5 frames out of antiphase for the whole clip. docs/som-controller.md has the numbers.
 
 Optional transition blend (``blend_frames = n > 0``; 0 is the thesis's hard switch): for ``n``
 frames after a gait change, each leg also keeps running the previous gait from the completion
@@ -21,6 +27,7 @@ A further change during a blend restarts the blend from the gait that was active
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,6 +36,9 @@ from animstudio.som.weights import SomWeights
 
 LEGS = ("right", "left")
 """Leg order of every ``(F, 2, ...)`` array here."""
+
+SearchMask = Literal["pattern", "won"]
+"""Units the winner search considers: pattern winners (default) or every unit that ever won."""
 
 START_COMPLETIONS = (0.0, 0.5)
 """Initial completion of the right and the left leg (thesis)."""
@@ -65,9 +75,10 @@ class WinnerSearch:
     hundred searches.
     """
 
-    def __init__(self, weights: SomWeights) -> None:
+    def __init__(self, weights: SomWeights, *, search: SearchMask = "pattern") -> None:
         trained = weights.trained
-        self.units = np.flatnonzero(trained.won.ravel())
+        mask = trained.pattern_winner if search == "pattern" else trained.won
+        self.units = np.flatnonzero(mask.ravel())
         flat = trained.input_weights.reshape(-1, 2)
         self._w0 = np.ascontiguousarray(flat[self.units, 0])
         self._w1 = np.ascontiguousarray(flat[self.units, 1])
@@ -89,6 +100,7 @@ def run_controller(
     *,
     blend_frames: int = 0,
     start_completions: tuple[float, float] = START_COMPLETIONS,
+    search: SearchMask = "pattern",
 ) -> ControllerRun:
     """Drive both legs for ``len(gait_index)`` frames (module docstring).
 
@@ -97,6 +109,7 @@ def run_controller(
         gait_index: ``(F,)`` index into ``weights.gait_names`` of the gait at each frame.
         blend_frames: cross-fade length after a gait change (0 = thesis's hard switch).
         start_completions: right and left leg completion at frame 0.
+        search: which units may win (module docstring).
     """
     gait_index = np.asarray(gait_index)
     n = int(gait_index.shape[0])
@@ -106,7 +119,7 @@ def run_controller(
         raise ValueError("gait_index out of range of the weights' gaits")
     if blend_frames < 0:
         raise ValueError(f"blend_frames must be >= 0, got {blend_frames}")
-    search = WinnerSearch(weights)
+    winner_of = WinnerSearch(weights, search=search)
     outputs = weights.trained.outputs.reshape(-1, 6)
     next_completion = [float(v) for v in outputs[:, 5]]
     ids = [float(v) for v in weights.gait_ids]
@@ -129,11 +142,11 @@ def run_controller(
         if blending:
             weight[k] = (blend_step + 1) / (blend_frames + 1)
         for leg in range(2):
-            unit = search(ids[g], c[leg])
+            unit = winner_of(ids[g], c[leg])
             completion[k, leg] = c[leg]
             winner[k, leg] = unit
             if blending:
-                old = search(ids[shadow_gait], shadow_c[leg])
+                old = winner_of(ids[shadow_gait], shadow_c[leg])
                 shadow[k, leg] = old
                 shadow_c[leg] = next_completion[old]
             c[leg] = next_completion[unit]

@@ -16,6 +16,9 @@ output unit per competitive unit. For each of ``T`` presentations (default 20,00
 * the winner's output unit is SET to the pattern's output; neighbours' outputs are untouched.
   The winner is marked as "won" (and carries the pattern's stance flag, used for foot contacts).
 
+After the last presentation each pattern's winner under the final weights is recorded
+(``pattern_winner``).
+
 Input weights start uniform in [0, 1)^2 (both inputs live in [0, 1]) from the same generator,
 then the presentation order is drawn. :func:`train_reference` is the plain numpy statement of
 the algorithm; :func:`train` runs the same arithmetic in a numba loop that touches only the
@@ -72,12 +75,18 @@ class TrainedMap:
             completion); zero for units that never won.
         won: ``(R, C) bool`` units that won at least one presentation.
         stance: ``(R, C) bool`` stance flag of the last pattern each unit won.
+        pattern_winner: ``(R, C) bool`` units that won during training and are the winner of at
+            least one training pattern with the final input weights. Units that won early
+            in training and were later dragged elsewhere as neighbours still hold an early
+            pattern's output at a place where it does not belong ("stale" units); the
+            controller searches only these (docs/som-controller.md).
     """
 
     input_weights: NDArray[np.float64]
     outputs: NDArray[np.float64]
     won: NDArray[np.bool_]
     stance: NDArray[np.bool_]
+    pattern_winner: NDArray[np.bool_]
 
 
 def _start(
@@ -114,7 +123,7 @@ def train_reference(data: TrainingSet, settings: TrainingSettings | None = None)
         outputs[bi, bj] = data.outputs[p]
         won[bi, bj] = True
         stance[bi, bj] = data.stance[p]
-    return TrainedMap(weights, outputs, won, stance)
+    return TrainedMap(weights, outputs, won, stance, _pattern_winners(weights, data.inputs, won))
 
 
 @numba.njit(cache=True, nogil=True)
@@ -203,4 +212,37 @@ def train(
         )
         if progress is not None:
             progress(stop - start)
-    return TrainedMap(weights, outputs, won, stance)
+    return TrainedMap(weights, outputs, won, stance, _pattern_winners(weights, inputs, won))
+
+
+def _pattern_winners(
+    weights: NDArray[np.float64], inputs: NDArray[np.float64], won: NDArray[np.bool_]
+) -> NDArray[np.bool_]:
+    flat = weights.reshape(-1, 2)
+    mask = np.zeros(flat.shape[0], dtype=bool)
+    for x in inputs:
+        # Same expression and tie rule (first minimum) as the training's winner search.
+        d = (flat[:, 0] - x[0]) ** 2 + (flat[:, 1] - x[1]) ** 2
+        mask[int(np.argmin(d))] = True
+    # A very short training may end with a pattern's nearest unit never having won it (its
+    # output is not a pattern's): such a unit must not drive the pose either.
+    return mask.reshape(weights.shape[:2]) & won
+
+
+def unreproduced_patterns(trained: TrainedMap, data: TrainingSet) -> NDArray[np.int64]:
+    """Indices of patterns whose winner (nearest pattern-winner unit) lacks that pattern's output.
+
+    The thesis's scheme stores one pattern per unit; when two patterns end training with the
+    same winner (the map did not separate them), the unit keeps whichever was presented last and
+    the controller cannot replay the other. Empty for a map that reproduces its training set
+    (the shipped one; ``animstudio train`` warns otherwise).
+    """
+    units = np.flatnonzero(trained.pattern_winner.ravel())
+    flat = trained.input_weights.reshape(-1, 2)[units]
+    outputs = trained.outputs.reshape(-1, 6)
+    bad = []
+    for p, (x, y) in enumerate(zip(data.inputs, data.outputs, strict=True)):
+        unit = units[int(np.argmin(((flat - x) ** 2).sum(axis=1)))]
+        if not np.array_equal(outputs[unit], y):
+            bad.append(p)
+    return np.array(bad, dtype=np.int64)

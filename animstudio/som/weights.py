@@ -9,6 +9,7 @@ format_version         () int64      :data:`FORMAT_VERSION`
 input_weights          (R, C, 2) f8  competitive layer (gait id, completion)
 outputs                (R, C, 6) f8  Q, F, Y deg; hip Δx, Δy (thigh lengths); next completion
 won                    (R, C) bool   the unit won at least one training presentation
+pattern_winner         (R, C) bool   the unit wins a training pattern with the final weights
 stance                 (R, C) bool   the foot is on the ground in the unit's pattern
 gait_names             (G,) <U       the script vocabulary, ascending gait id
 gait_ids               (G,) f8       thesis identifiers (walk 0.2, run 0.4, climb 0.6)
@@ -98,6 +99,7 @@ def to_arrays(weights: SomWeights) -> dict[str, NDArray[np.generic]]:
         "outputs": np.asarray(weights.trained.outputs, dtype=np.float64),
         "won": np.asarray(weights.trained.won, dtype=bool),
         "stance": np.asarray(weights.trained.stance, dtype=bool),
+        "pattern_winner": np.asarray(weights.trained.pattern_winner, dtype=bool),
         "gait_names": np.array(weights.gait_names, dtype=np.str_),
         "gait_ids": np.asarray(weights.gait_ids, dtype=np.float64),
         "thigh_lengths_m": np.asarray(weights.thigh_lengths_m, dtype=np.float64),
@@ -135,6 +137,7 @@ _EXPECTED: dict[str, tuple[str, int]] = {
     "outputs": ("f", 3),
     "won": ("b", 2),
     "stance": ("b", 2),
+    "pattern_winner": ("b", 2),
     "gait_names": ("U", 1),
     "gait_ids": ("f", 1),
     "thigh_lengths_m": ("f", 1),
@@ -194,6 +197,7 @@ def from_arrays(arrays: dict[str, NDArray[np.generic]], *, source: str) -> SomWe
         ("outputs", (rows, cols, 6)),
         ("won", (rows, cols)),
         ("stance", (rows, cols)),
+        ("pattern_winner", (rows, cols)),
     ):
         if arrays[key].shape != want:
             raise DataError(f"{source}: '{key}' must have shape {want}, got {arrays[key].shape}")
@@ -209,8 +213,12 @@ def from_arrays(arrays: dict[str, NDArray[np.generic]], *, source: str) -> SomWe
     for key in ("input_weights", "outputs", "gait_ids", "thigh_lengths_m", "learning_rate"):
         if not np.all(np.isfinite(arrays[key])):
             raise DataError(f"{source}: '{key}' contains NaN or infinite values")
-    if not np.any(arrays["won"]):
-        raise DataError(f"{source}: no unit ever won during training; the map is unusable")
+    if not np.any(arrays["pattern_winner"]):
+        raise DataError(f"{source}: no unit wins a training pattern; the map is unusable")
+    if np.any(
+        np.asarray(arrays["pattern_winner"], dtype=bool) & ~np.asarray(arrays["won"], dtype=bool)
+    ):
+        raise DataError(f"{source}: 'pattern_winner' marks units that never won")
     if np.any(np.asarray(arrays["thigh_lengths_m"], dtype=np.float64) <= 0.0):
         raise DataError(f"{source}: thigh_lengths_m must be positive")
     try:
@@ -228,8 +236,15 @@ def from_arrays(arrays: dict[str, NDArray[np.generic]], *, source: str) -> SomWe
         outputs=np.asarray(arrays["outputs"], dtype=np.float64),
         won=np.asarray(arrays["won"], dtype=bool),
         stance=np.asarray(arrays["stance"], dtype=bool),
+        pattern_winner=np.asarray(arrays["pattern_winner"], dtype=bool),
     )
-    for arr in (trained.input_weights, trained.outputs, trained.won, trained.stance):
+    for arr in (
+        trained.input_weights,
+        trained.outputs,
+        trained.won,
+        trained.stance,
+        trained.pattern_winner,
+    ):
         arr.setflags(write=False)
     return SomWeights(
         trained=trained,
@@ -244,5 +259,5 @@ def from_arrays(arrays: dict[str, NDArray[np.generic]], *, source: str) -> SomWe
 DEFAULT_WEIGHTS = Path(__file__).resolve().parent.parent / "data" / "som_default.npz"
 """The shipped weights: ``animstudio train training_data --seed`` :data:`DEFAULT_SEED`."""
 
-DEFAULT_SEED = 1992
-"""Seed of the shipped weights (the year of Ritter et al., the thesis's Kohonen reference)."""
+DEFAULT_SEED = 0
+"""Seed of the shipped weights (also :class:`TrainingSettings`'s default)."""
