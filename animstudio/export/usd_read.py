@@ -2,10 +2,10 @@
 
 Everything goes through ``UsdSkel.Cache``: the first SkelRoot (the default prim if it is one), its
 first Skeleton and that skeleton's ``SkeletonQuery`` / ``AnimQuery``. Frames are the integer time
-codes ``startTimeCode .. endTimeCode``; fps is ``timeCodesPerSecond``. Skinned meshes bound to the
-skeleton become the clip's mesh (several are merged); segments, events and notes come back from
-the ``animstudio:*`` keys of ``customLayerData`` (docs/usd-export.md). Curves are not exported, so
-a read clip has none.
+codes ``startTimeCode .. endTimeCode`` (the animation's sample range if the file has none); fps is
+``timeCodesPerSecond``. Skinned meshes bound to the skeleton become the clip's mesh (several are
+merged); segments, events and notes come back from the ``animstudio:*`` keys of
+``customLayerData`` (docs/usd-export.md). Curves are not exported, so a read clip has none.
 
 What a :class:`Clip` cannot hold is refused with a :class:`DataError` rather than silently dropped:
 scaled joints, non-root joints whose translation changes over time, and a Skeleton prim with a
