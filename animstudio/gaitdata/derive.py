@@ -22,7 +22,8 @@
    with the recorded angles over the recorded hip path, the planted foot still creeps (walk:
    the treadmill belt speed is an estimate, and the subject's shank/thigh ratio is unknown).
    A constant forward speed is added to the hip path so the planted foot's mean slip over the
-   stance frames is zero (least squares); the value is in each file's header.
+   stance frames is zero (least squares) when the root moves as the controller moves it (the
+   mean of both legs' hip deltas, half a cycle apart); the value is in each file's header.
 6. Express hip displacements per frame in the subject's thigh lengths (SOURCES.md values).
 """
 
@@ -252,14 +253,21 @@ def derive_cycle(source: GaitSource, data: NDArray[np.float64]) -> tuple[Cycle, 
 def _stance_slip(x: NDArray[np.float64], stance: NDArray[np.bool_], thigh_m: float) -> float:
     """Mean per-frame forward slip (m) of the planted foot's ground contact during stance.
 
-    The contact point is whichever of heel and toe joint is lower at frame k, followed to k + 1
-    (so the switch from heel to toe at heel-off is not a jump).
+    The hip moves as the controller moves the root (:mod:`animstudio.som.motion`): the mean of
+    the hip steps of both legs, which run half a cycle apart (for an odd N the two nearest
+    half-cycle offsets are averaged). The contact point is whichever of heel and toe joint is
+    lower at frame k, followed to k + 1 (so the hand-over from heel to toe is not a jump).
     """
+    n = len(stance)
+    hip_step = np.diff(x[:, 3])  # (N,) step k is frame k -> k + 1
+    k = np.arange(n)
+    other = 0.5 * (hip_step[(k + n // 2) % n] + hip_step[(k + (n + 1) // 2) % n])
+    root_step = 0.5 * (hip_step + other)
     pts = leg_points(x[:, :3], scale=thigh_m / THIGH_M)
     use_heel = pts.heel[:, 1] <= pts.toe[:, 1]
     here = np.where(use_heel, pts.heel[:, 0], pts.toe[:, 0])
     there = np.where(use_heel[:-1], pts.heel[1:, 0], pts.toe[1:, 0])
-    slip = (x[1:, 3] + there) - (x[:-1, 3] + here[:-1])
+    slip = root_step + there - here[:-1]
     return float(np.mean(slip[stance]))
 
 
