@@ -1,0 +1,169 @@
+"""Reinitialization: choose the posture controller's knee angle φc step by step.
+
+``reinit auto`` (the product default) decides φc at every beginning of stance (BSP) for a few
+steps after each push, and again right after each push ends: it simulates every candidate φc
+ahead in one parallel batch — φc acting until the next BSP, 0 afterwards, with the pushes that
+have already begun — and keeps the candidate whose walker comes back to the limit cycle fastest
+(smallest summed Poincaré distance over the following BSPs; a fall is worst, a later fall
+less bad). Pushes that have not begun yet are unknown to it, as to a walker. ``reinit off``
+keeps φc = 0 throughout: the paper's normal walking.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from animstudio.sim.cpg.analysis import LimitCycle, limit_cycle, section_distance
+from animstudio.sim.cpg.batch import run_walkers
+from animstudio.sim.cpg.model import (
+    DT_S,
+    FALL_HEIGHT_M,
+    CpgState,
+    Model,
+    Push,
+    Rollout,
+    init,
+    rollout,
+)
+
+ReinitMode = Literal["auto", "off"]
+
+PHI_C_CANDIDATES_RAD: NDArray[np.float64] = np.linspace(0.0, 0.3 * np.pi, 16)
+"""0 to 0.3π (the knee range x_k) in 0.02π steps; the paper's values were 0.11π-0.20π."""
+HORIZON_S = 2.5
+"""Look-ahead of a candidate: about two strides."""
+SCORED_BSPS = 4
+"""BSPs after a decision whose distance from the cycle is summed."""
+ACTIVE_STEPS = 6
+"""Decisions continue for this many steps after the end of the last push."""
+
+
+@dataclass(frozen=True)
+class Decision:
+    """φc chosen at ``t_s`` for the next landing, with every candidate's score (lower = better)."""
+
+    t_s: float
+    phi_c_rad: float
+    candidates_rad: tuple[float, ...]
+    scores: tuple[float, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class Walk:
+    """A whole simulated script: the chained rollout, the φc decisions, the fall (if any)."""
+
+    rollout: Rollout
+    decisions: tuple[Decision, ...]
+    fall_t_s: float | None
+
+
+def _score(
+    cycle: LimitCycle,
+    t_s: float,
+    res_bsp_y: NDArray[np.float64],
+    legs: NDArray[np.int64],
+    fall: float,
+) -> float:
+    if not np.isnan(fall):
+        # every fall is worse than any walk; among falls the later one is less bad
+        return 1e6 - (fall - t_s)
+    mask = legs > 0
+    d = section_distance(cycle, res_bsp_y[mask][:SCORED_BSPS], legs[mask][:SCORED_BSPS])
+    missing = SCORED_BSPS - d.shape[0]
+    return float(d.sum() + 10.0 * max(0, missing))
+
+
+def choose_phi_c(
+    model: Model,
+    cycle: LimitCycle,
+    state: CpgState,
+    known_pushes: Sequence[Push],
+    *,
+    candidates: NDArray[np.float64] = PHI_C_CANDIDATES_RAD,
+    dt: float = DT_S,
+) -> Decision:
+    """Simulate every candidate φc ahead from ``state`` (one batch) and pick the best."""
+    n = candidates.shape[0]
+    res = run_walkers(
+        model, [state] * n, HORIZON_S, pushes=[list(known_pushes)] * n,
+        phi_c=candidates, phi_c_until_bsp=True, dt=dt, fall_height_m=FALL_HEIGHT_M,
+    )  # fmt: skip
+    scores = [
+        _score(cycle, state.t_s, res.bsp_y[i], res.bsp_leg[i], res.fall_t_s[i]) for i in range(n)
+    ]
+    best = int(np.argmin(scores))  # ties go to the smallest φc (candidates ascend from 0)
+    return Decision(state.t_s, float(candidates[best]), tuple(candidates.tolist()), tuple(scores))
+
+
+def _concat(parts: list[Rollout]) -> Rollout:
+    return Rollout(
+        records=np.concatenate([p.records for p in parts]),
+        bsp_t_s=np.concatenate([p.bsp_t_s for p in parts]),
+        bsp_leg=np.concatenate([p.bsp_leg for p in parts]),
+        bsp_y=np.concatenate([p.bsp_y for p in parts]),
+        fall_t_s=next((p.fall_t_s for p in parts if p.fall_t_s is not None), None),
+        final=parts[-1].final,
+    )
+
+
+def simulate_walk(
+    model: Model,
+    duration_s: float,
+    pushes: Sequence[Push] = (),
+    *,
+    reinit: ReinitMode = "auto",
+    start: CpgState | None = None,
+    record_every: int = 20,
+    dt: float = DT_S,
+    after_fall_s: float = 1.5,
+) -> Walk:
+    """Simulate ``duration_s`` from ``start`` (default: the stated initial condition).
+
+    After a fall the simulation runs ``after_fall_s`` more and ends (the caller holds the pose).
+    """
+    state = start if start is not None else init(model.params)
+    t_end = state.t_s + duration_s
+    pushes = sorted(pushes, key=lambda p: p.t_s)
+    if reinit == "off":
+        ro = rollout(
+            model, state, duration_s, dt=dt, record_every=record_every, pushes=pushes,
+            after_fall_s=after_fall_s,
+        )  # fmt: skip
+        return Walk(ro, (), ro.fall_t_s)
+    cycle = limit_cycle(model.params)
+    push_ends = sorted(p.t_s + p.duration_s for p in pushes)
+    parts: list[Rollout] = []
+    decisions: list[Decision] = []
+    remaining = 0
+    while state.t_s < t_end - 0.5 * dt:
+        t = state.t_s
+        phi = 0.0
+        if remaining > 0:
+            known = [p for p in pushes if p.t_s <= t + 0.5 * dt]
+            decision = choose_phi_c(model, cycle, state, known, dt=dt)
+            decisions.append(decision)
+            phi = decision.phi_c_rad
+        stop = min([e for e in push_ends if e > t + 0.5 * dt] + [t_end])
+        seg = rollout(
+            model, state, stop - t, dt=dt, record_every=record_every, pushes=pushes,
+            phi_c=([t], [phi], [phi]), stop_at_bsp=1 if remaining > 0 else 0, phi_c_until_bsp=True,
+            after_fall_s=after_fall_s,
+        )  # fmt: skip
+        parts.append(seg)
+        state = seg.final
+        if seg.fall_t_s is not None:
+            rest = min(after_fall_s - (state.t_s - seg.fall_t_s), t_end - state.t_s)
+            if rest > 0.5 * dt:
+                parts.append(
+                    rollout(model, state, rest, dt=dt, record_every=record_every, pushes=pushes)
+                )
+            break
+        ended_at_push = any(abs(state.t_s - e) < 0.5 * dt for e in push_ends)
+        remaining = ACTIVE_STEPS if ended_at_push else max(0, remaining - 1)
+    ro = _concat(parts)
+    return Walk(ro, tuple(decisions), ro.fall_t_s)
