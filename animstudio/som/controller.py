@@ -124,8 +124,8 @@ def run_controller(
     next_completion = [float(v) for v in outputs[:, 5]]
     ids = [float(v) for v in weights.gait_ids]
     gaits = [int(v) for v in gait_index]
-    # The loop only follows the feedback chain (plain Python floats and a memoised search);
-    # outputs are gathered with fancy indexing afterwards, which keeps 18,000 frames fast.
+    # The loop only follows the feedback chains (plain Python floats and a memoised search) and
+    # tiles them once they repeat; outputs are gathered by index afterwards.
     winner = np.empty((n, 2), dtype=np.int64)
     completion = np.empty((n, 2))
     shadow = np.full((n, 2), -1, dtype=np.int64)  # previous gait's unit during a blend
@@ -134,23 +134,34 @@ def run_controller(
     shadow_c = [0.0, 0.0]
     shadow_gait = -1
     blend_step = blend_frames  # >= blend_frames: no blend running
-    for k in range(n):
+    k = 0
+    while k < n:
         g = gaits[k]
         if k > 0 and g != gaits[k - 1] and blend_frames > 0:
             shadow_gait, shadow_c, blend_step = gaits[k - 1], list(c), 0
-        blending = blend_step < blend_frames
-        if blending:
-            weight[k] = (blend_step + 1) / (blend_frames + 1)
+        if blend_step >= blend_frames:
+            # No blend: follow each leg's chain to the end of this gait's run in one go.
+            end = k + 1
+            while end < n and gaits[end] == g:
+                end += 1
+            for leg in range(2):
+                units, comps = _follow(winner_of, ids[g], c[leg], end - k, next_completion)
+                winner[k:end, leg] = units
+                completion[k:end, leg] = comps
+                c[leg] = next_completion[int(units[-1])]
+            k = end
+            continue
+        weight[k] = (blend_step + 1) / (blend_frames + 1)
         for leg in range(2):
             unit = winner_of(ids[g], c[leg])
             completion[k, leg] = c[leg]
             winner[k, leg] = unit
-            if blending:
-                old = winner_of(ids[shadow_gait], shadow_c[leg])
-                shadow[k, leg] = old
-                shadow_c[leg] = next_completion[old]
+            old = winner_of(ids[shadow_gait], shadow_c[leg])
+            shadow[k, leg] = old
+            shadow_c[leg] = next_completion[old]
             c[leg] = next_completion[unit]
         blend_step += 1
+        k += 1
     values = outputs[winner, :5]  # (F, 2, 5)
     mixed = shadow >= 0
     if np.any(mixed):
@@ -164,3 +175,35 @@ def run_controller(
         winner=winner,
         stance=unit_stance[winner],
     )
+
+
+def _follow(
+    winner_of: WinnerSearch,
+    gait_id: float,
+    start: float,
+    length: int,
+    next_completion: list[float],
+) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Winners and input completions of one leg for ``length`` frames of one gait.
+
+    The chain is deterministic, so once a completion comes back the rest repeats that loop (a
+    gait's cycle): it is tiled instead of searched frame by frame.
+    """
+    units: list[int] = []
+    comps: list[float] = []
+    seen: dict[float, int] = {}
+    c = start
+    while len(units) < length:
+        if c in seen:
+            loop = seen[c]
+            rest = length - len(units)
+            return (
+                np.concatenate([units, np.resize(np.array(units[loop:]), rest)]).astype(np.int64),
+                np.concatenate([comps, np.resize(np.array(comps[loop:]), rest)]),
+            )
+        seen[c] = len(units)
+        unit = winner_of(gait_id, c)
+        units.append(unit)
+        comps.append(c)
+        c = next_completion[unit]
+    return np.array(units, dtype=np.int64), np.array(comps, dtype=np.float64)

@@ -151,3 +151,30 @@ def test_slide_metric_sees_a_sliding_foot() -> None:
         clip_from_channels(dragged), channels.contacts["right_foot"], "right"
     )
     assert slides.min() > 0.1
+
+
+def _plain_controller(weights: SomWeights, gaits: np.ndarray) -> np.ndarray:
+    # The thesis's loop written out frame by frame, searching the pattern-winner units.
+    mask = weights.trained.pattern_winner.ravel()
+    flat = weights.trained.input_weights.reshape(-1, 2)
+    outputs = weights.trained.outputs.reshape(-1, 6)
+    units = np.flatnonzero(mask)
+    c = [0.0, 0.5]
+    winners = np.empty((len(gaits), 2), dtype=np.int64)
+    for k, g in enumerate(gaits):
+        for leg in range(2):
+            x = (weights.gait_ids[g], c[leg])
+            d = (flat[units, 0] - x[0]) ** 2 + (flat[units, 1] - x[1]) ** 2
+            winners[k, leg] = units[int(np.argmin(d))]
+            c[leg] = outputs[winners[k, leg], 5]
+    return winners
+
+
+def test_tiled_chains_equal_the_plain_frame_by_frame_loop(shipped: SomWeights) -> None:
+    rng = np.random.Generator(np.random.PCG64(7))
+    lengths = rng.integers(1, 90, size=30)
+    gaits = np.repeat(rng.integers(0, 3, size=30), lengths)
+    fast = run_controller(shipped, gaits)
+    np.testing.assert_array_equal(fast.winner, _plain_controller(shipped, gaits))
+    outputs = shipped.trained.outputs.reshape(-1, 6)
+    np.testing.assert_array_equal(fast.angles_deg, outputs[fast.winner, :3])
