@@ -29,9 +29,9 @@ from animstudio.batch.discovery import find_scripts, remove_temporaries
 from animstudio.batch.manifest import (
     BatchSettings,
     Entry,
+    ManifestWriter,
     is_up_to_date,
     load_manifest,
-    save_manifest,
     sha256_bytes,
     sha256_file,
 )
@@ -145,12 +145,16 @@ def run_batch(
         for job in todo:
             if job.rel in old:
                 entries[job.rel] = old[job.rel]
-        save_manifest(out_abs, entries)
+        manifest = ManifestWriter(out_abs)
+        for entry in entries.values():
+            manifest.put(entry)
+        manifest.save()
 
         def settle(entry: Entry) -> None:
             entries[entry.input] = entry
             outcomes[entry.input] = "rendered" if entry.status == "ok" else "failed"
-            save_manifest(out_abs, entries)  # after every job: a kill loses only in-flight work
+            manifest.put(entry)
+            manifest.save()  # after every job: a kill loses only in-flight work
             if on_entry:
                 on_entry(entry, outcomes[entry.input])
 

@@ -151,7 +151,12 @@ def _print_summary(report: object, out_dir: Path) -> None:
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     for k, row in enumerate(rows):
         line = "  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)).rstrip()
-        click.secho(line, bold=k == 0, fg="red" if row[1] == "FAILED" else None)
+        if k == 0:
+            click.secho(line, bold=True)
+        elif row[1] == "FAILED":
+            click.secho(line, fg="red")
+        else:
+            click.echo(line)
     click.echo(
         f"\n{len(report.entries)} scripts: {report.count('rendered')} rendered, "
         f"{report.count('skipped')} up to date, {report.count('failed')} failed "

@@ -151,9 +151,45 @@ def test_cli_summary_and_exit_status(first: tuple[Path, Path, BatchReport], tmp_
     ]
 
     (inp / "shots" / "bad.gait").unlink()
-    proc = cli(str(inp), "-o", str(out), "--format", "usdc,bvh")
-    assert proc.returncode == 0, proc.stderr
-    assert "0 rendered, 4 up to date, 0 failed" in proc.stdout
+    code, stdout, bar = cli_on_terminal(str(inp), "-o", str(out), "--format", "usdc,bvh")
+    assert code == 0, bar
+    assert "0 rendered, 4 up to date, 0 failed" in stdout
+    assert "0/4 [" in bar and "script/s" in bar  # the progress bar, on a terminal only
+
+
+def cli_on_terminal(*args: str) -> tuple[int, str, str]:
+    """Run ``animstudio batch`` with stderr on a pseudo-terminal of 100 columns."""
+    import fcntl
+    import pty
+    import struct
+    import termios
+
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
+    }
+    leader, follower = pty.openpty()
+    fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 40, 100, 0, 0))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "animstudio", "batch", *args],
+        stdout=subprocess.PIPE,
+        stderr=follower,
+        env=env,
+    )
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            data = os.read(leader, 4096)
+        except OSError:  # EIO: the child closed the terminal
+            break
+        if not data:
+            break
+        chunks.append(data)
+    os.close(leader)
+    stdout = proc.stdout.read().decode() if proc.stdout else ""
+    proc.wait(timeout=300)
+    return proc.returncode, stdout, b"".join(chunks).decode(errors="replace")
 
 
 def test_cli_rejects_bad_arguments_before_any_work(tmp_path: Path) -> None:
