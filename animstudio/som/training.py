@@ -27,10 +27,10 @@ neighbourhood window, and tests check the two give identical weights.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -126,8 +126,7 @@ def train_reference(data: TrainingSet, settings: TrainingSettings | None = None)
     return TrainedMap(weights, outputs, won, stance, _pattern_winners(weights, data.inputs, won))
 
 
-@numba.njit(cache=True, nogil=True)
-def _train_steps(
+def _train_steps_py(
     weights: NDArray[np.float64],
     outputs: NDArray[np.float64],
     won: NDArray[np.bool_],
@@ -171,6 +170,14 @@ def _train_steps(
         stance[bi, bj] = pattern_stance[p]
 
 
+@functools.cache
+def _train_steps() -> Callable[..., None]:
+    # numba is imported on first training only: rendering with shipped weights never pays for it.
+    import numba
+
+    return numba.njit(cache=True, nogil=True)(_train_steps_py)
+
+
 def train(
     data: TrainingSet,
     settings: TrainingSettings | None = None,
@@ -196,7 +203,7 @@ def train(
     chunk = 2_000 if progress is not None else settings.presentations
     for start in range(0, settings.presentations, chunk):
         stop = min(start + chunk, settings.presentations)
-        _train_steps(
+        _train_steps()(
             weights,
             outputs,
             won,
