@@ -85,3 +85,21 @@ def test_format_round_trips() -> None:
     path = TRAINING_DATA / "walk.csv"
     text = path.read_text()
     assert format_cycle(parse_cycle(text, path=str(path))) == text
+
+
+def test_derive_entry_point_reports_a_missing_source(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main([str(tmp_path / "nowhere"), str(tmp_path / "out")]) == 1
+    assert "reference gait directory not found" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+    assert main(["only-one-argument"]) == 2
+
+
+def test_bad_reference_rows_are_located(tmp_path: Path) -> None:
+    from animstudio.errors import DataError
+
+    bad = tmp_path / "walk_csuhmc.csv"
+    bad.write_text("frame,time_s,thigh_deg,shank_deg,foot_deg,hip_x,hip_y\n0,0,1,2,x,4,5\n")
+    with pytest.raises(DataError, match=r"walk_csuhmc.csv:2: non-numeric field"):
+        read_reference(bad)
