@@ -114,3 +114,30 @@ def test_sigkill_mid_batch_then_resume(tmp_path: Path) -> None:
         for rec in entry["outputs"].values():
             assert sha256_file(out / rec["path"]) == rec["sha256"]
             assert check_output(out / rec["path"])["frames"] == entry["frames"]
+
+
+@pytest.mark.slow
+def test_a_killed_worker_fails_only_its_jobs(tmp_path: Path) -> None:
+    # The out-of-memory killer takes one worker process: the pool breaks; the jobs it had in
+    # flight are reported failed, a fresh pool renders the rest, and a re-run completes them.
+    from animstudio.batch import run_batch
+
+    inp = make_tree(tmp_path / "in", SCRIPTS)
+    out = tmp_path / "out"
+    killed: list[int] = []
+
+    def on_entry(entry, outcome):  # type: ignore[no-untyped-def]
+        if not killed and entry.worker:
+            pid = int(entry.worker.split(":")[1])
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    report = run_batch(inp, out, formats=("usdc",), jobs=2, on_entry=on_entry)
+    assert killed
+    failed = report.failed
+    assert 1 <= len(failed) <= 4  # at most the window of 2 jobs per worker was in flight
+    assert all("worker process died" in (e.error or "") for e in failed)
+    assert report.count("rendered") == len(SCRIPTS) - len(failed)
+    again = run_batch(inp, out, formats=("usdc",), jobs=2)
+    assert again.count("rendered") == len(failed) and again.count("failed") == 0
+    assert again.count("skipped") == len(SCRIPTS) - len(failed)

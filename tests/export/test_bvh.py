@@ -160,3 +160,14 @@ def test_euler_zxy_round_trip_including_gimbal_lock(x_deg: float) -> None:
         m = Rotation.from_euler("ZXY", [z, x_deg, y], degrees=True).as_matrix()
         back = Rotation.from_euler("ZXY", euler_zxy_deg(m), degrees=True).as_matrix()
         assert np.allclose(back, m, atol=1e-9)
+
+
+def test_fk_of_parsed_bvh_matches_the_humanoid_rig(synthetic_humanoid_clip) -> None:  # type: ignore[no-untyped-def]
+    # The shipped humanoid (its own rest rotations, 24 joints), 20 km from the origin so the
+    # 6-decimal text format is exercised at large coordinates too.
+    clip = synthetic_humanoid_clip(60, 30.0, start_m=(20_000.0, 5.0))
+    names, world = read_bvh(build_bvh(clip))
+    ours = joint_positions(clip)
+    idx = [clip.skeleton.index(n) for n in names]
+    assert len(names) == clip.skeleton.num_joints
+    assert np.abs(world - ours[:, idx]).max() < 1e-4

@@ -12,7 +12,7 @@ from animstudio.core import quat
 from animstudio.core.clip import Clip
 from animstudio.core.skeleton import Skeleton
 from animstudio.errors import ExportError
-from animstudio.export.csv import build_csv, write_csv
+from animstudio.export.csv import build_csv, csv_header, write_csv
 
 
 def _clip(rng: np.random.Generator, frames: int = 12, curves: dict | None = None) -> Clip:
@@ -61,3 +61,11 @@ def test_curve_name_with_comma_is_refused() -> None:
     clip = _clip(np.random.default_rng(2), curves={"a,b": np.zeros(12)})
     with pytest.raises(ExportError, match="comma"):
         build_csv(clip)
+
+
+def test_humanoid_clip_columns(synthetic_humanoid_clip) -> None:  # type: ignore[no-untyped-def]
+    clip = synthetic_humanoid_clip(30, 25.0)
+    rows = list(csv.reader(build_csv(clip).splitlines()))
+    assert rows[0] == csv_header(clip)
+    assert len(rows) == 31 and len(rows[0]) == 5 + len(clip.curves) + 4 * clip.skeleton.num_joints
+    assert "left_thigh_deg" in rows[0] and "left_toe_quat_w" in rows[0]
