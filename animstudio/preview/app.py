@@ -35,8 +35,11 @@ from animstudio.preview.watch import FileWatcher
 
 log = logging.getLogger(__name__)
 
-INITIAL_CAMERA_OFFSET_M = np.array([1.2, 0.6, -3.6])
-"""Camera position relative to the followed root at start: ahead and to the character's left."""
+CAMERA_DIRECTION = np.array([1.2, 0.6, -3.6]) / np.linalg.norm([1.2, 0.6, -3.6])
+"""From the followed root towards the camera at start: ahead, above and to the character's left."""
+
+CAMERA_DISTANCE_PER_SIZE = 2.2
+"""Start distance in character sizes (largest extent of the rest pose): the whole body in view."""
 
 CURVE_UPDATE_PERIOD_S = 0.1
 """The curves panel follows the playhead at most 10 times a second while playing."""
@@ -302,7 +305,7 @@ class PreviewApp:
     # -- clients ----------------------------------------------------------------------------
 
     def _on_connect(self, client: viser.ClientHandle) -> None:
-        follower = CameraFollower(INITIAL_CAMERA_OFFSET_M)
+        follower = CameraFollower(self._initial_camera_offset())
         follower.following = self.gui.follow_enabled
         with self._lock:
             self._followers[client.client_id] = follower
@@ -319,6 +322,17 @@ class PreviewApp:
                 self._changed()  # the camera can be placed now
 
         self._wake.set()
+
+    def _initial_camera_offset(self) -> np.ndarray:
+        # Frame the character by its size: a hexapod is a third of a humanoid's height.
+        with self._lock:
+            posed = self._posed
+        size = 1.75
+        if posed is not None:
+            mesh = posed.clip.mesh
+            points = mesh.vertices if mesh is not None else posed.bind_positions
+            size = float(np.max(np.ptp(points, axis=0)))
+        return CAMERA_DIRECTION * CAMERA_DISTANCE_PER_SIZE * max(size, 0.1)
 
     def _on_disconnect(self, client: viser.ClientHandle) -> None:
         with self._lock:

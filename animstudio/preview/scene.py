@@ -51,6 +51,11 @@ class CharacterView:
     def has_mesh(self) -> bool:
         return self._mesh is not None
 
+    @property
+    def character(self) -> viser.SceneNodeHandle | None:
+        """The character's scene node (skinned mesh, or bone lines for a bare skeleton)."""
+        return self._mesh if self._mesh is not None else self._bones
+
     def set_clip(self, posed: PosedClip) -> None:
         """Show ``posed`` (keeping the mesh node if the rig and skin are unchanged)."""
         scene = self._server.scene

@@ -56,8 +56,8 @@ def load_clip(path: Path, *, options: EngineOptions | None = None) -> Clip:
 class Fingerprint:
     """Identity of a file's contents, for noticing saves.
 
-    mtime and size are cheap and catch almost every save; the hash catches a save within the
-    file system's timestamp resolution that keeps the size, and ignores a ``touch``.
+    mtime and size are cheap and change on every save (nanosecond timestamps); the hash, taken
+    only when they change, tells a real edit from a ``touch`` or a save of unchanged text.
     """
 
     mtime_ns: int

@@ -18,6 +18,9 @@ from animstudio.preview.source import Fingerprint, fingerprint
 log = logging.getLogger(__name__)
 
 POLL_INTERVAL_S = 0.05
+SETTLE_S = 0.02
+"""A change is reported once the file has kept the same contents this long: an editor that
+truncates and then writes would otherwise be caught between the two (an empty script)."""
 
 
 class FileWatcher:
@@ -63,13 +66,20 @@ class FileWatcher:
             return False
         if last is not None and (st.st_mtime_ns, st.st_size) == (last.mtime_ns, last.size):
             return False
+        detected = time.perf_counter()
         now = fingerprint(self._path)
+        while True:
+            time.sleep(SETTLE_S)
+            again = fingerprint(self._path)
+            if again == now:
+                break
+            now = again
         if now is None:
             return False
         self._last = now
         if last is not None and now.sha256 == last.sha256:
             return False  # touched, or rewritten with the same bytes
-        self._on_change(time.perf_counter())
+        self._on_change(detected)
         return True
 
     def _run(self) -> None:
