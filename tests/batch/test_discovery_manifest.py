@@ -103,3 +103,33 @@ def test_corrupt_manifest_is_a_data_error(tmp_path: Path) -> None:
     (tmp_path / "manifest.json").write_text(json.dumps({"manifest_version": 99, "entries": {}}))
     with pytest.raises(DataError, match="manifest_version 99"):
         load_manifest(tmp_path)
+
+
+def test_missing_weights_file_is_a_data_error_before_any_work(tmp_path: Path) -> None:
+    from animstudio.batch import run_batch
+
+    make_tree(tmp_path / "in", {"a.gait": "walk 10\n"})
+    with pytest.raises(DataError, match="weights file not found"):
+        run_batch(tmp_path / "in", tmp_path / "out", weights=tmp_path / "none.npz")
+    assert not (tmp_path / "out").exists()
+
+
+def test_second_batch_on_the_same_output_directory_is_refused(tmp_path: Path) -> None:
+    import fcntl
+    import os
+
+    from animstudio.batch import run_batch
+    from animstudio.batch.runner import LOCK_NAME
+    from animstudio.errors import ExportError
+
+    make_tree(tmp_path / "in", {"a.gait": "walk 10\n"})
+    out = tmp_path / "out"
+    out.mkdir()
+    fd = os.open(out / LOCK_NAME, os.O_RDWR | os.O_CREAT)
+    fcntl.flock(fd, fcntl.LOCK_EX)  # as a running batch holds it
+    try:
+        with pytest.raises(ExportError, match="another animstudio batch is writing"):
+            run_batch(tmp_path / "in", out)
+    finally:
+        os.close(fd)
+    assert not (out / "manifest.json").exists()

@@ -66,26 +66,35 @@ def _check_all_files(out: Path) -> list[Path]:
     return temporaries
 
 
-@pytest.mark.slow
-def test_sigkill_mid_batch_then_resume(tmp_path: Path) -> None:
-    inp = make_tree(tmp_path / "in", SCRIPTS)
-    out = tmp_path / "out"
+def _run_until_killed(inp: Path, out: Path, finished: int) -> dict:
+    """Start a batch, SIGKILL its process group once ``finished`` scripts are in the manifest."""
     proc = _start(inp, out)
     deadline = time.monotonic() + 240
-    while len(_finished(out)) < KILL_AFTER:
+    while len(_finished(out)) < finished:
         assert proc.poll() is None, f"batch ended before the kill: {proc.communicate()}"
         assert time.monotonic() < deadline, "batch made no progress"
         time.sleep(0.01)
     os.killpg(proc.pid, signal.SIGKILL)
     proc.communicate()
     assert proc.returncode == -signal.SIGKILL
-
-    before = _finished(out)
-    assert KILL_AFTER <= len(before) < len(SCRIPTS), "the kill did not land mid-way"
+    done = _finished(out)
+    assert finished <= len(done) < len(SCRIPTS), "the kill did not land mid-way"
     _check_all_files(out)  # no truncated output anywhere, whatever was in flight
-    for entry in before.values():
+    for entry in done.values():
         for rec in entry["outputs"].values():
             assert sha256_file(out / rec["path"]) == rec["sha256"]
+    return done
+
+
+@pytest.mark.slow
+def test_sigkill_mid_batch_then_resume(tmp_path: Path) -> None:
+    inp = make_tree(tmp_path / "in", SCRIPTS)
+    out = tmp_path / "out"
+    first = _run_until_killed(inp, out, KILL_AFTER)
+    # Killed again while resuming: the first kill's finished work must survive a second kill.
+    before = _run_until_killed(inp, out, len(first) + 3)
+    for rel, entry in first.items():
+        assert before[rel] == entry
     stamps = {
         rec["path"]: (out / rec["path"]).stat().st_ino
         for e in before.values()
