@@ -37,7 +37,8 @@ from animstudio.batch.manifest import (
     sha256_file,
 )
 from animstudio.batch.worker import Job, render_job
-from animstudio.errors import DataError, ExportError
+from animstudio.errors import DataError, ExportError, lookup
+from animstudio.export.formats import FORMATS
 
 Outcome = Literal["rendered", "failed", "skipped"]
 LOCK_NAME = ".animstudio-batch.lock"
@@ -95,6 +96,7 @@ def run_batch(
         on_entry: called as each input is settled (skipped at once, others as they finish).
 
     Raises:
+        UnknownName: a format that is not one of :data:`animstudio.export.formats.FORMATS`.
         DataError: no input directory / scripts, a missing weights file, a corrupt manifest.
         ExportError: OUT_DIR cannot be created or another batch is writing to it; the Dask
             scheduler cannot be reached.
@@ -110,9 +112,14 @@ def run_batch(
             raise DataError(f"{weights}: weights file not found")
         weights_abs = str(Path(weights).resolve())
         weights_sha = sha256_file(Path(weights))
-    settings = BatchSettings(tuple(dict.fromkeys(formats)), fps, weights_sha)
+    if not formats:
+        raise ValueError("formats must name at least one output format")
+    known = tuple(dict.fromkeys(lookup("format", f, FORMATS) for f in formats))
+    settings = BatchSettings(known, fps, weights_sha)
     if jobs is not None and jobs < 1:
         raise ValueError(f"jobs must be >= 1, got {jobs}")
+    if fps is not None and fps <= 0:
+        raise ValueError(f"fps must be positive, got {fps}")
 
     with _exclusive(out_abs):
         removed = remove_temporaries(out_abs)

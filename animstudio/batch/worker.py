@@ -56,6 +56,7 @@ def render_job(job: Job) -> Entry:
     try:
         raw = Path(job.input_path).read_bytes()
     except OSError as exc:
+        _remove_outputs(job)
         return _failed(
             job, "", f"{job.display_path}: cannot read script: {exc.strerror or exc}", start
         )
@@ -83,12 +84,11 @@ def _render(job: Job, raw: bytes, input_sha: str, start: float) -> Entry:
     from animstudio.core.resample import resample_clip
     from animstudio.engines import EngineOptions
     from animstudio.export.formats import write_clip
+    from animstudio.script.parser import decode_utf8
 
     options = EngineOptions(weights=Path(job.weights) if job.weights else None)
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        text = pipeline.read_script_text(Path(job.input_path))  # raises the located error
+    # The bytes already read and hashed are the ones parsed (a BOM dropped, bad UTF-8 located).
+    text = decode_utf8(raw, path=job.display_path)
     script = pipeline.parse_script(text, path=job.display_path, options=options)
     clip = pipeline.render(script, options=options)
     source_fps = clip.fps

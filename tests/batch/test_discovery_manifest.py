@@ -105,12 +105,15 @@ def test_corrupt_manifest_is_a_data_error(tmp_path: Path) -> None:
         load_manifest(tmp_path)
 
 
-def test_missing_weights_file_is_a_data_error_before_any_work(tmp_path: Path) -> None:
+def test_bad_arguments_are_refused_before_any_work(tmp_path: Path) -> None:
     from animstudio.batch import run_batch
+    from animstudio.errors import UnknownName
 
     make_tree(tmp_path / "in", {"a.gait": "walk 10\n"})
     with pytest.raises(DataError, match="weights file not found"):
         run_batch(tmp_path / "in", tmp_path / "out", weights=tmp_path / "none.npz")
+    with pytest.raises(UnknownName, match="unknown format 'usdz'"):
+        run_batch(tmp_path / "in", tmp_path / "out", formats=("usdc", "usdz"))
     assert not (tmp_path / "out").exists()
 
 
