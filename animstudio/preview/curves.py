@@ -99,6 +99,7 @@ def plot_data(
     *,
     playhead_frame: int,
     window_s: float | None,
+    normalize: bool = False,
 ) -> PlotData:
     """The curves ``names`` of ``clip`` around ``playhead_frame``, with the playhead and boundaries.
 
@@ -108,6 +109,8 @@ def plot_data(
         playhead_frame: the frame shown in the 3D view.
         window_s: seconds of curve shown, centred on the playhead where the clip allows
             (``None``: the whole clip).
+        normalize: scale each curve to ``[0, 1]`` over the whole clip, its range in its label
+            (for engine signals of mixed units: neuron activity next to a unit index).
     """
     fps = clip.fps
     n = clip.num_frames
@@ -132,9 +135,16 @@ def plot_data(
     data: list[NDArray[np.float64]] = [x]
     series: list[dict[str, Any]] = [{"label": "time (s)"}]
     for i, name in enumerate(names):
-        data.append(np.interp(x, all_t, clip.curves[name]))
+        values = clip.curves[name]
+        label = name
+        if normalize:
+            lo_v, hi_v = float(values.min()), float(values.max())
+            span = hi_v - lo_v if hi_v > lo_v else 1.0
+            values = (values - lo_v) / span
+            label = f"{name} [{lo_v:.3g}, {hi_v:.3g}]"
+        data.append(np.interp(x, all_t, values))
         series.append(
-            {"label": name, "stroke": PALETTE[i % len(PALETTE)], "width": 1.5, "scale": "y"}
+            {"label": label, "stroke": PALETTE[i % len(PALETTE)], "width": 1.5, "scale": "y"}
         )
     data.append(np.where(kind == 1, mark_y, np.nan))
     series.append(

@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 
 CURVE_WINDOWS: dict[str, float | None] = {"4 s": 4.0, "10 s": 10.0, "whole clip": None}
 PANEL_TITLES: dict[CurveGroup, str] = {"angles": "Joint angles", "signals": "Engine signals"}
-PANEL_UNITS: dict[CurveGroup, str] = {"angles": "degrees", "signals": "activity"}
+PANEL_UNITS: dict[CurveGroup, str] = {"angles": "degrees", "signals": "scaled to range"}
 
 
 def status_markdown(clip: Clip, frame: int, *, playing: bool) -> str:
@@ -169,7 +169,13 @@ class PreviewGui:
                 continue
             self._plot_names[group] = names
             if handle is None:
-                data = plot_data(clip, names, playhead_frame=0, window_s=self.window_s)
+                data = plot_data(
+                    clip,
+                    names,
+                    playhead_frame=0,
+                    window_s=self.window_s,
+                    normalize=group == "signals",
+                )
                 # Created lazily (a clip may have no signals), inside the Curves folder.
                 with self._curves_folder:
                     self._plots[group] = self._server.gui.add_uplot(
@@ -197,7 +203,13 @@ class PreviewGui:
             names = self._plot_names.get(group, ())
             if not handle.visible or not names:
                 continue
-            data = plot_data(clip, names, playhead_frame=frame, window_s=self.window_s)
+            data = plot_data(
+                clip,
+                names,
+                playhead_frame=frame,
+                window_s=self.window_s,
+                normalize=group == "signals",
+            )
             if tuple(s.get("label") for s in handle.series) != tuple(
                 s.get("label") for s in data.series
             ):

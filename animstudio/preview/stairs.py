@@ -2,8 +2,8 @@
 
 A clip does not store the terrain, so the preview rebuilds it from the motion: during a climb
 segment the root rises by the flight's total height and advances by its total run. The number
-of steps is the number of upward pushes in the root's vertical velocity (one per foot placed
-on a new step); the step rise and run are the totals divided by that count. Each step is a
+of steps comes from the upward pushes in the root's vertical velocity (one per foot placed on
+a new step, :func:`count_steps`); the step rise and run are the totals divided by it. Each step is a
 solid box standing on the floor level the flight started from, and the top landing reaches to
 where the root next goes down (or to the end of the clip).
 """
@@ -14,7 +14,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.signal import find_peaks
 
 from animstudio.core.clip import Clip
 
@@ -23,6 +22,9 @@ CLIMB_GAITS = frozenset({"climb"})
 
 LANDING_MARGIN_M = 0.6
 """How far the top landing extends beyond the root's last position on it (the feet reach ahead)."""
+
+PUSH_FRACTION = 0.3
+"""Frames rising faster than this fraction of the fastest rise belong to a push."""
 
 STAIR_WIDTH_M = 1.0
 """Across the direction of travel (Z); wide enough for both feet."""
@@ -57,19 +59,28 @@ class StairFlight:
 
 
 def count_steps(root_y: NDArray[np.float64]) -> int:
-    """Upward pushes in a climb's root height curve ``(N,)`` (at least 1 if it rises at all).
+    """Steps climbed in a climb segment's root height curve ``(N,)`` (at least 1).
 
-    A push is a peak of the vertical velocity standing out by a third of the largest one: the
-    gentle rise of a hip over a planted foot is one push, the small wobbles between are not.
+    The hip rises in pushes, one per foot placed on a new step, with a pause between while the
+    other foot swings. A push is a run of frames whose vertical velocity exceeds
+    ``PUSH_FRACTION`` of the largest; the push period is the median spacing of the pushes'
+    fastest frames, and the segment climbs one step per period. (Counting pushes directly
+    would count the half push a segment boundary cuts as a whole step.)
     """
-    if root_y.shape[0] < 3:
+    n = root_y.shape[0]
+    if n < 3:
         return 1
     vy = np.gradient(root_y)
     top = float(vy.max())
     if top <= 0.0:
         return 1
-    peaks, _ = find_peaks(vy, height=top / 3.0, prominence=top / 3.0)
-    return max(1, len(peaks))
+    pushing = np.concatenate([[False], vy > PUSH_FRACTION * top, [False]])
+    edges = np.flatnonzero(np.diff(pushing.astype(np.int8)))
+    peaks = [a + int(np.argmax(vy[a:b])) for a, b in zip(edges[0::2], edges[1::2], strict=True)]
+    if len(peaks) < 2:
+        return 1
+    period = float(np.median(np.diff(peaks)))
+    return max(1, round(n / period))
 
 
 def stairs_for_clip(clip: Clip, *, floor_y: float | None = None) -> tuple[StairFlight, ...]:
@@ -101,17 +112,18 @@ def stairs_for_clip(clip: Clip, *, floor_y: float | None = None) -> tuple[StairF
         z = float(np.mean(root[seg.start_frame : end + 1, 2]))
         boxes = []
         for i in range(1, n + 1):
-            # Step i's tread is centred where the root is when it has climbed i - 1/2 steps: the
-            # hip is above the foot that pushes it up onto the next step.
+            # Riser i stands i runs past the root's position at the start of the climb: where the
+            # som engine's feet land (its climb puts the heel of the foot stepping onto step i
+            # about one run ahead of the hip that is still below it).
             top = level + i * rise
-            x_front = x0 + (i - 0.5) * run
+            x_front = x0 + i * run
             boxes.append(
                 StepBox(
                     center=(x_front + 0.5 * run, 0.5 * (top + ground), z),
                     size=(run, top - ground, STAIR_WIDTH_M),
                 )
             )
-        landing_start = x0 + (n + 0.5) * run
+        landing_start = x0 + (n + 1) * run
         landing_end = _landing_end(root, end, float(y[-1]), rise) + LANDING_MARGIN_M
         top = level + n * rise
         if landing_end > landing_start:

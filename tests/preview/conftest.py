@@ -15,6 +15,15 @@ from synthetic import synthetic_clip  # noqa: E402
 
 from animstudio.core.clip import Clip  # noqa: E402
 
+SOM_SCRIPT = """\
+# humanoid on the Kohonen controller (renders in a fraction of a second)
+engine som
+character humanoid
+fps 30
+
+walk 2s / run 2s
+"""
+
 OBB_SCRIPT = """\
 # hexapod: tripod then wave (rendered by the obb engine in well under a second)
 engine obb

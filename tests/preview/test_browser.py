@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 import pytest
 from browser import (
-    canvas_image,
     chromium_page,
     page_text,
     settled_canvas,
@@ -22,7 +21,7 @@ from browser import (
     uplot_series,
     wait_for,
 )
-from conftest import OBB_SCRIPT, free_port
+from conftest import SOM_SCRIPT, free_port
 
 from animstudio.preview import PreviewApp
 
@@ -34,8 +33,8 @@ SCREENSHOT = Path(__file__).parents[2] / "docs" / "figures" / "preview.png"
 @pytest.fixture(scope="module")
 def preview(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[PreviewApp, Any, Path]]:
     tmp = tmp_path_factory.mktemp("browser")
-    script = tmp / "hexapod.gait"
-    script.write_text(OBB_SCRIPT)
+    script = tmp / "walk_run.gait"
+    script.write_text(SOM_SCRIPT)
     app = PreviewApp(script, port=free_port())
     try:
         with chromium_page(tmp / "profile") as page:
@@ -57,7 +56,7 @@ def _pause_at(app: PreviewApp, page: Any, frame: int) -> None:
 
 
 def test_page_loads_with_controls_and_curves(preview: tuple[PreviewApp, Any, Path]) -> None:
-    app, page, script = preview
+    _, page, script = preview
     text = page_text(page)
     assert script.name in text
     assert status_frame(page) is not None
@@ -116,13 +115,13 @@ def test_play_advances_the_frame_at_the_scripts_fps(preview: tuple[PreviewApp, A
 
 def test_saving_the_script_updates_view_and_curves(preview: tuple[PreviewApp, Any, Path]) -> None:
     app, page, script = preview
-    script.write_text(OBB_SCRIPT)
+    script.write_text(SOM_SCRIPT)
     wait_for(lambda: app.error is None and app.clip is not None, 30.0, "a good clip")
     _pause_at(app, page, 45)
     before = settled_canvas(page)
     curves_before = wait_for(lambda: uplot_series(page, "Joint angles"), 30.0, "the curves")
     reloads = len(app.reloads)
-    script.write_text(OBB_SCRIPT.replace("tripod 2s / wave 2s", "wave 3s / tripod 2s"))
+    script.write_text(SOM_SCRIPT.replace("walk 2s / run 2s", "run 3s / walk 2s"))
     wait_for(lambda: status_frame(page) == (45, 149), 30.0, "the re-rendered clip (150 frames)")
     assert len(app.reloads) == reloads + 1 and app.reloads[-1].ok
     curves_after = wait_for(
@@ -136,14 +135,14 @@ def test_saving_the_script_updates_view_and_curves(preview: tuple[PreviewApp, An
     assert all(abs(x - 2.0) < 1e-9 for x in _marks(curves_before, -2))
     after = settled_canvas(page)
     changed = np.abs(after.astype(int) - before.astype(int)).max(axis=2) > 40
-    assert changed.mean() > 0.002, "the pose at frame 45 should differ between tripod and wave"
+    assert changed.mean() > 0.002, "the pose at frame 45 should differ between walk and run"
 
 
 def test_broken_script_shows_its_error_and_keeps_the_clip(
     preview: tuple[PreviewApp, Any, Path],
 ) -> None:
     app, page, script = preview
-    script.write_text(OBB_SCRIPT.replace("tripod 2s / wave 2s", "wave 3s / tripod 2s"))
+    script.write_text(SOM_SCRIPT.replace("walk 2s / run 2s", "run 3s / walk 2s"))
     wait_for(
         lambda: app.error is None and app.clip is not None and app.clip.num_frames == 150,
         30.0,
@@ -151,12 +150,12 @@ def test_broken_script_shows_its_error_and_keeps_the_clip(
     )
     _pause_at(app, page, 45)
     good = settled_canvas(page)
-    script.write_text(OBB_SCRIPT.replace("tripod 2s / wave 2s", "wave 3s / tripd 2s"))
+    script.write_text(SOM_SCRIPT.replace("walk 2s / run 2s", "run 3s / wlak 2s"))
     message = wait_for(lambda: app.error, 30.0, "the error")
-    assert f"{script}:6:" in message and "tripd" in message
+    assert f"{script}:6:" in message and "wlak" in message
     wait_for(lambda: "Script error" in page_text(page), 30.0, "the error box in the page")
     text = page_text(page)
-    assert f"{script.name}:6:" in text and "tripd" in text
+    assert f"{script.name}:6:" in text and "wlak" in text
     # The last good clip is still on show.
     assert status_frame(page) == (45, 149)
     still = settled_canvas(page)
@@ -169,7 +168,7 @@ def test_broken_script_shows_its_error_and_keeps_the_clip(
     wait_for(lambda: (status_frame(page) or (45, 0))[0] != 45, 30.0, "playback of the kept clip")
     page.get_by_role("button", name="Pause").click()
     # Fixing the script clears the error.
-    script.write_text(OBB_SCRIPT)
+    script.write_text(SOM_SCRIPT)
     wait_for(lambda: "Script error" not in page_text(page), 30.0, "the error box to go")
     wait_for(lambda: (status_frame(page) or (0, 0))[1] == 119, 30.0, "the fixed clip")
 

@@ -67,3 +67,12 @@ def test_vertical_lines_join_outside_the_plotted_range(walk_climb_clip: Clip) ->
     assert np.all((ys < 0) | (ys > 1))
     assert np.all(np.sign(ys[0::2] - 0.5) != np.sign(ys[1::2] - 0.5))
     assert np.all(np.sign(ys[1:-1:2] - 0.5) == np.sign(ys[2::2] - 0.5))
+
+
+def test_signals_can_be_scaled_to_their_range(walk_climb_clip: Clip) -> None:
+    clip = walk_climb_clip
+    pd = plot_data(clip, ("neuron_1",), playhead_frame=0, window_s=None, normalize=True)
+    assert pd.data[1].min() == pytest.approx(0.0, abs=1e-6)
+    assert pd.data[1].max() == pytest.approx(1.0, abs=1e-6)
+    lo, hi = clip.curves["neuron_1"].min(), clip.curves["neuron_1"].max()
+    assert pd.series[1]["label"] == f"neuron_1 [{lo:.3g}, {hi:.3g}]"
