@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from animstudio.errors import SimulationError
-from animstudio.sim.cpg.model import Model, Rollout, init, rollout
+from animstudio.sim.cpg.model import CpgState, Model, Rollout, init, rollout
 from animstudio.sim.cpg.params import CpgParams
 
 SETTLE_S = 40.0
@@ -104,3 +104,21 @@ def section_distance(
     """Scaled distance of BSP states ``(n, 40)`` (legs 1/2) from the cycle's Poincaré points."""
     ref = cycle.section[np.asarray(legs) - 1]
     return np.sqrt(np.sum(((bsp_y[:, _SECTION] - ref) * _SCALE) ** 2, axis=1))
+
+
+def start_on_cycle(params: CpgParams) -> CpgState:
+    """The settled walker at a left BSP, moved to x = 0 and t = 0 (steady walking from t = 0)."""
+    cyc = limit_cycle(params)
+    model = Model.build(params)
+    state = cyc.settled.final
+    for _ in range(3):  # at most: a right BSP, then the left one
+        ro = rollout(model, state, 3.0, record_every=1 << 20, stop_at_bsp=1)
+        state = ro.final
+        if ro.bsp_leg.size and ro.bsp_leg[-1] == 1:
+            break
+    y, disc = state.copy_arrays()
+    x0 = y[0]
+    y[0] -= x0
+    disc[1] -= x0  # the ground-spring anchors move with the body
+    disc[3] -= x0
+    return CpgState(0.0, y, disc)

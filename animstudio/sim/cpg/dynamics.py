@@ -57,10 +57,11 @@ from animstudio.sim.cpg.params import (
     N_NEURONS,
 )  # fmt: skip
 
-N_AUX = 12
-"""Auxiliary outputs of :func:`rhs`: hip_l, knee_l, ankle_l, hip_r, knee_r, ankle_r (active CPG
-torques incl. range stops, Nm; knee positive = extension), T_BSP l/r (Nm), ground Fx/Fy left,
-Fx/Fy right (N)."""
+N_AUX = 16
+"""Auxiliary outputs of :func:`rhs`: [0-5] hip_l, knee_l, ankle_l, hip_r, knee_r, ankle_r:
+active torques Tr1..Tr6 of the appendix *without* the range stops (the neurons' torques, Nm;
+knee positive = extension); [6-7] T_BSP left/right (Nm); [8-11] ground Fx/Fy left, Fx/Fy right
+(N); [12-15] range-stop torques Th_l, Tk_l, Th_r, Tk_r (Nm), also active in the appendix."""
 
 
 @njit(cache=True, inline="always")
@@ -95,31 +96,36 @@ def feet(
 
 
 @njit(cache=True)
-def _solve_spd(m: np.ndarray, q: np.ndarray, out: np.ndarray) -> None:
+def _solve_spd(
+    m: np.ndarray, q: np.ndarray, lo: np.ndarray, z: np.ndarray, out: np.ndarray
+) -> None:
     # P(x) is symmetric positive definite (a mass matrix): Cholesky without pivoting is exact
-    # and cheaper than a general LU for 6x6.
+    # and cheaper than a general LU for 6x6. Matrices are flat row-major (6*6,) work buffers so
+    # the hot loop never allocates.
     n = 6
-    lo = np.zeros((n, n))
     for i in range(n):
         for j in range(i + 1):
-            s = m[i, j]
+            s = m[i * n + j]
             for k in range(j):
-                s -= lo[i, k] * lo[j, k]
+                s -= lo[i * n + k] * lo[j * n + k]
             if i == j:
-                lo[i, i] = np.sqrt(s)
+                lo[i * n + i] = np.sqrt(s)
             else:
-                lo[i, j] = s / lo[j, j]
-    z = np.zeros(n)
+                lo[i * n + j] = s / lo[j * n + j]
     for i in range(n):
         s = q[i]
         for k in range(i):
-            s -= lo[i, k] * z[k]
-        z[i] = s / lo[i, i]
+            s -= lo[i * n + k] * z[k]
+        z[i] = s / lo[i * n + i]
     for i in range(n - 1, -1, -1):
         s = z[i]
         for k in range(i + 1, n):
-            s -= lo[k, i] * out[k]
-        out[i] = s / lo[i, i]
+            s -= lo[k * n + i] * out[k]
+        out[i] = s / lo[i * n + i]
+
+
+N_WORK = 14 + 36 + 36 + 6 + 6 + 6
+"""Length of the scratch buffer :func:`rhs` needs."""
 
 
 @njit(cache=True)
@@ -136,6 +142,7 @@ def rhs(
     posture_on: float,
     dy: np.ndarray,
     aux: np.ndarray,
+    wk: np.ndarray,
 ) -> None:
     """Write dy/dt into ``dy`` and the torques/forces into ``aux`` (see N_AUX).
 
@@ -143,6 +150,7 @@ def rhs(
         push_n: horizontal force on the hip, +x forward (N).
         phic_l, phic_r: posture-controller equilibrium knee angles φc (rad).
         posture_on: 1.0 to apply T_BSP, 0.0 to disable the posture controller entirely.
+        wk: scratch buffer of length :data:`N_WORK`.
     """
     m1, m2, m3, m4, m5 = p[I_M1], p[I_M2], p[I_M3], p[I_M4], p[I_M5]
     l1, l2, l3, l4 = p[I_L1], p[I_L2], p[I_L3], p[I_L4]
@@ -171,7 +179,7 @@ def rhs(
     u = y[12 : 12 + N_NEURONS]
     v = y[12 + N_NEURONS : 12 + 2 * N_NEURONS]
     u0 = p[I_GAMMA] if y[1] >= p[I_T] else 0.0
-    fu = np.empty(N_NEURONS)
+    fu = wk[0:N_NEURONS]
     for i in range(N_NEURONS):
         fu[i] = _pos(u[i])
     e = p[I_FB] * (_pos(-x3) - _pos(-x5))  # E = f(-x3) - f(-x5), E' = -E
@@ -218,25 +226,26 @@ def rhs(
     hip_r = p[I_P1] * fu[6] - p[I_P2] * fu[7] + th_r
     knee_r = p[I_P3] * fu[8] - p[I_P4] * fu[9] + tk_r
 
-    # --- posture modulation torque (2.4): while p fires and the foot swings, the knee is driven
-    # to φc: the gated PD extends it when more flexed than φc, the antagonist -α f(u_p) flexes it
-    # otherwise (docs §2.4: damping sign restored). φc = 0 is the paper's normal walking
-    # "without posture modulation": no T_BSP. With φc > 0 the posture controller governs the knee
-    # during that window (Fig. 3: knee = neurons 3-4-p1) and the CPG knee torque is withheld;
-    # otherwise its extensor (~110 Nm at the walking gains) overpowers |T_BSP| <= δ = 90 Nm and
-    # no φc could flex the knee (docs §2.4).
+    # --- posture modulation torque (2.4): while p fires and the foot swings, a PD (damping sign
+    # restored) drives the knee to φc from either side, clamped to ±δ by f_m (docs §2.4: the
+    # printed gate g(x3 - x4 - φc) with the antagonist -α f(u_p) only reaches φc + α f/pp1, about
+    # φc + 0.08π, so no small φc is possible; α = 0 by default keeps the term for the literal
+    # reading). φc = 0 is the paper's normal walking "without posture modulation": no T_BSP.
+    # With φc > 0 the posture controller governs the knee in that window (Fig. 3: knee = neurons
+    # 3-4-p1) and the CPG knee torque is withheld: its extensor (~100 Nm at the walking gains)
+    # would otherwise overpower |T_BSP| <= δ = 90 Nm.
     delta = p[I_DELTA]
     bsp_l = 0.0
     bsp_r = 0.0
     if posture_on > 0.5:
         if phic_l > 0.0 and u[12] > 0.0 and yl > 0.0:
             k = x3 - x4 - phic_l
-            t_l = _step(k) * (p[I_PP1] * k + p[I_PP2] * (d3 - d4))
+            t_l = p[I_PP1] * k + p[I_PP2] * (d3 - d4)
             bsp_l = min(delta, max(-delta, t_l - p[I_ALPHA] * fu[12]))
             knee_l = tk_l
         if phic_r > 0.0 and u[13] > 0.0 and yr > 0.0:
             k = x5 - x6 - phic_r
-            t_r = _step(k) * (p[I_PP1] * k + p[I_PP2] * (d5 - d6))
+            t_r = p[I_PP1] * k + p[I_PP2] * (d5 - d6)
             bsp_r = min(delta, max(-delta, t_r - p[I_ALPHA] * fu[13]))
             knee_r = tk_r
 
@@ -257,24 +266,29 @@ def rhs(
     a4 = 0.5 * m3 * l2
     a5 = (0.5 * m4 + m5) * l3
     a6 = 0.5 * m5 * l4
-    mm = np.zeros((6, 6))
-    mm[0, 0] = mt
-    mm[1, 1] = mt
-    mm[0, 2] = mm[2, 0] = a3 * c3
-    mm[1, 2] = mm[2, 1] = a3 * s3
-    mm[0, 3] = mm[3, 0] = a4 * c4
-    mm[1, 3] = mm[3, 1] = a4 * s4
-    mm[0, 4] = mm[4, 0] = a5 * c5
-    mm[1, 4] = mm[4, 1] = a5 * s5
-    mm[0, 5] = mm[5, 0] = a6 * c6
-    mm[1, 5] = mm[5, 1] = a6 * s6
-    mm[2, 2] = 0.25 * m2 * l1 * l1 + m3 * l1 * l1 + i1
-    mm[2, 3] = mm[3, 2] = 0.5 * m3 * l1 * l2 * np.cos(x3 - x4)
-    mm[3, 3] = 0.25 * m3 * l2 * l2 + i2
-    mm[4, 4] = 0.25 * m4 * l3 * l3 + m5 * l3 * l3 + i3
-    mm[4, 5] = mm[5, 4] = 0.5 * m5 * l3 * l4 * np.cos(x5 - x6)
-    mm[5, 5] = 0.25 * m5 * l4 * l4 + i4
-    q = np.empty(6)
+    mm = wk[14:50]
+    lo = wk[50:86]
+    q = wk[86:92]
+    acc = wk[92:98]
+    zz = wk[98:104]
+    for i in range(36):
+        mm[i] = 0.0
+    mm[0] = mt
+    mm[7] = mt
+    mm[2] = mm[12] = a3 * c3
+    mm[8] = mm[13] = a3 * s3
+    mm[3] = mm[18] = a4 * c4
+    mm[9] = mm[19] = a4 * s4
+    mm[4] = mm[24] = a5 * c5
+    mm[10] = mm[25] = a5 * s5
+    mm[5] = mm[30] = a6 * c6
+    mm[11] = mm[31] = a6 * s6
+    mm[14] = 0.25 * m2 * l1 * l1 + m3 * l1 * l1 + i1
+    mm[15] = mm[20] = 0.5 * m3 * l1 * l2 * np.cos(x3 - x4)
+    mm[21] = 0.25 * m3 * l2 * l2 + i2
+    mm[28] = 0.25 * m4 * l3 * l3 + m5 * l3 * l3 + i3
+    mm[29] = mm[34] = 0.5 * m5 * l3 * l4 * np.cos(x5 - x6)
+    mm[35] = 0.25 * m5 * l4 * l4 + i4
     q[0] = a3 * s3 * d3 * d3 + a4 * s4 * d4 * d4 + a5 * s5 * d5 * d5 + a6 * s6 * d6 * d6
     q[0] += fg1 + fg3 + push_n
     q[1] = -a3 * c3 * d3 * d3 - a4 * c4 * d4 * d4 - a5 * c5 * d5 * d5 - a6 * c6 * d6 * d6
@@ -287,17 +301,16 @@ def rhs(
     q[4] += -a5 * g * s5 + trp3 + hip_r - knee_r - hip_l - bsp_r
     q[5] = 0.5 * m5 * l3 * l4 * np.sin(x5 - x6) * d5 * d5 + fg3 * l4 * c6 + fg4 * l4 * s6
     q[5] += -a6 * g * s6 + trp4 + knee_r - ankle_r + bsp_r
-    acc = np.empty(6)
-    _solve_spd(mm, q, acc)
+    _solve_spd(mm, q, lo, zz, acc)
     for i in range(6):
         dy[i] = y[6 + i]
         dy[6 + i] = acc[i]
 
-    aux[0] = hip_l
-    aux[1] = knee_l
+    aux[0] = hip_l - th_l
+    aux[1] = knee_l - tk_l
     aux[2] = ankle_l
-    aux[3] = hip_r
-    aux[4] = knee_r
+    aux[3] = hip_r - th_r
+    aux[4] = knee_r - tk_r
     aux[5] = ankle_r
     aux[6] = bsp_l
     aux[7] = bsp_r
@@ -305,3 +318,7 @@ def rhs(
     aux[9] = fg2
     aux[10] = fg3
     aux[11] = fg4
+    aux[12] = th_l
+    aux[13] = tk_l
+    aux[14] = th_r
+    aux[15] = tk_r

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from animstudio.sim.cpg.dynamics import N_AUX, feet, rhs
+from animstudio.sim.cpg.dynamics import N_AUX, N_WORK, feet, rhs
 from animstudio.sim.cpg.params import I_HYST
 
 # Columns of a record row.
@@ -36,6 +36,9 @@ C_YL = C_CONTACT_L + 5
 C_YR = C_CONTACT_L + 6
 C_V = C_CONTACT_L + 7  # v1..v12, vp1, vp2 (for plots of the accommodation variables)
 N_CHANNELS = C_V + 14
+
+N_STEP_WORK = 5 * 40 + N_AUX + N_WORK
+"""Scratch length of :func:`rk4_step` (5 stage vectors of the 40-state, aux, rhs scratch)."""
 
 STOP_NONE = 0
 STOP_AT_BSP = 1
@@ -77,25 +80,30 @@ def rk4_step(
     phic_r: float,
     posture_on: float,
     aux: np.ndarray,
+    work: np.ndarray,
 ) -> None:
-    """Advance ``y`` in place by one RK4 step (forces held over the step); ``aux`` at the start."""
+    """Advance ``y`` in place by one RK4 step (forces held over the step); ``aux`` at the start.
+
+    ``work`` is a scratch buffer of length :data:`N_STEP_WORK` (no allocation per step).
+    """
     n = y.shape[0]
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    k3 = np.empty(n)
-    k4 = np.empty(n)
-    tmp = np.empty(n)
-    scratch = np.empty(N_AUX)
-    rhs(p, tau, rate, w, y, disc, push_n, phic_l, phic_r, posture_on, k1, aux)
+    k1 = work[0:n]
+    k2 = work[n : 2 * n]
+    k3 = work[2 * n : 3 * n]
+    k4 = work[3 * n : 4 * n]
+    tmp = work[4 * n : 5 * n]
+    scratch = work[5 * n : 5 * n + N_AUX]
+    wk = work[5 * n + N_AUX : 5 * n + N_AUX + N_WORK]
+    rhs(p, tau, rate, w, y, disc, push_n, phic_l, phic_r, posture_on, k1, aux, wk)
     for i in range(n):
         tmp[i] = y[i] + 0.5 * dt * k1[i]
-    rhs(p, tau, rate, w, tmp, disc, push_n, phic_l, phic_r, posture_on, k2, scratch)
+    rhs(p, tau, rate, w, tmp, disc, push_n, phic_l, phic_r, posture_on, k2, scratch, wk)
     for i in range(n):
         tmp[i] = y[i] + 0.5 * dt * k2[i]
-    rhs(p, tau, rate, w, tmp, disc, push_n, phic_l, phic_r, posture_on, k3, scratch)
+    rhs(p, tau, rate, w, tmp, disc, push_n, phic_l, phic_r, posture_on, k3, scratch, wk)
     for i in range(n):
         tmp[i] = y[i] + dt * k3[i]
-    rhs(p, tau, rate, w, tmp, disc, push_n, phic_l, phic_r, posture_on, k4, scratch)
+    rhs(p, tau, rate, w, tmp, disc, push_n, phic_l, phic_r, posture_on, k4, scratch, wk)
     for i in range(n):
         y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
 
@@ -169,6 +177,7 @@ def run(
     (-1 if none), [4] 1.0 if the state became non-finite, [5] end time.
     """
     aux = np.zeros(N_AUX)
+    work = np.empty(N_STEP_WORK)
     y_prev = np.empty(y.shape[0])
     d_prev0 = 0.0
     d_prev2 = 0.0
@@ -192,7 +201,7 @@ def run(
             y_prev[:] = y
             d_prev0 = disc[0]
             d_prev2 = disc[2]
-        rk4_step(p, tau, rate, w, y, disc, dt, push, pl, pr, posture_on, aux)
+        rk4_step(p, tau, rate, w, y, disc, dt, push, pl, pr, posture_on, aux, work)
         if recording:
             # a row is the state at the start of a step with the forces acting on it then
             _record(p, rec[n_rec], t, y_prev, aux, d_prev0, d_prev2, push, pl, pr)
@@ -266,7 +275,7 @@ def run_batch(
     w: np.ndarray,
     ys: np.ndarray,
     discs: np.ndarray,
-    t_start: float,
+    t_starts: np.ndarray,
     dt: float,
     n_steps: int,
     push_t0: np.ndarray,
@@ -287,7 +296,7 @@ def run_batch(
 ) -> None:
     """:func:`run` for B walkers in parallel (no records; BSPs and summary only).
 
-    Per-walker arrays carry a leading batch axis: ``ys (B, N_STATE)``, ``discs (B, 4)``, pushes
+    Per-walker arrays carry a leading batch axis: ``ys (B, N_STATE)``, ``discs (B, 4)``, ``t_starts (B,)``, pushes
     ``(B, K)``, φc schedules ``(B, M)``, ``bsp_* (B, NB[, N_STATE])``, ``outs (B, 6)``. A walker
     stops at its fall (no after-fall time: sweeps only need to know that it fell).
     """
@@ -295,7 +304,7 @@ def run_batch(
     for i in prange(nb):
         rec = np.zeros((0, N_CHANNELS))
         run(
-            p, tau, rate, w, ys[i], discs[i], t_start, dt, n_steps, 1 << 30,
+            p, tau, rate, w, ys[i], discs[i], t_starts[i], dt, n_steps, 1 << 30,
             push_t0[i], push_t1[i], push_f[i], phic_times[i], phic_l[i], phic_r[i],
             posture_on, fall_height, 0.0, stop_mode, stop_count, phic_until_bsp, 0, rec,
             bsp_t[i], bsp_leg[i], bsp_y[i],

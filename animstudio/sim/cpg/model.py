@@ -97,9 +97,10 @@ def step(model: Model, state: CpgState, dt: float, drive: Drive) -> CpgState:
     """One RK4 step plus contact bookkeeping (slow: for tests and debugging; use rollout)."""
     y, disc = state.copy_arrays()
     aux = np.zeros(N_AUX)
+    work = np.empty(ig.N_STEP_WORK)
     ig.rk4_step(
         model.packed, model.tau, model.rate, model.w, y, disc, dt, drive.push_n,
-        drive.phi_c_left_rad, drive.phi_c_right_rad, 1.0 if drive.posture else 0.0, aux,
+        drive.phi_c_left_rad, drive.phi_c_right_rad, 1.0 if drive.posture else 0.0, aux, work,
     )  # fmt: skip
     ig.update_contacts(model.packed, y, disc)
     return CpgState(state.t_s + dt, y, disc)

@@ -83,7 +83,7 @@ class CpgParams:
     pv2: float = 40.0
     pp1: float = 400.0
     pp2: float = 40.0
-    alpha: float = 50.0
+    alpha: float = 0.0
     delta: float = 90.0
     xh: float = 0.11 * np.pi
     xk: float = 0.3 * np.pi

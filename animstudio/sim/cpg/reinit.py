@@ -35,12 +35,18 @@ ReinitMode = Literal["auto", "off"]
 
 PHI_C_CANDIDATES_RAD: NDArray[np.float64] = np.linspace(0.0, 0.3 * np.pi, 16)
 """0 to 0.3π (the knee range x_k) in 0.02π steps; the paper's values were 0.11π-0.20π."""
-HORIZON_S = 2.5
+HORIZON_S = 4.0
 """Look-ahead of a candidate: about two strides."""
-SCORED_BSPS = 4
+SCORED_BSPS = 6
 """BSPs after a decision whose distance from the cycle is summed."""
 ACTIVE_STEPS = 6
-"""Decisions continue for this many steps after the end of the last push."""
+"""Decisions continue for at least this many steps after the end of a push ..."""
+ON_CYCLE = 0.3
+"""... and after that until a landing is this close to the cycle (scaled Poincaré distance)."""
+FOLLOW_UP_RAD: NDArray[np.float64] = np.linspace(0.0, 0.3 * np.pi, 8)
+"""φc values tried for the landing after the candidate's (the second look-ahead level)."""
+_FALL = 1e6
+"""Score of a fall (minus how long the walker lasted): worse than any walk."""
 
 
 @dataclass(frozen=True)
@@ -71,7 +77,7 @@ def _score(
 ) -> float:
     if not np.isnan(fall):
         # every fall is worse than any walk; among falls the later one is less bad
-        return 1e6 - (fall - t_s)
+        return _FALL - (fall - t_s)
     mask = legs > 0
     d = section_distance(cycle, res_bsp_y[mask][:SCORED_BSPS], legs[mask][:SCORED_BSPS])
     missing = SCORED_BSPS - d.shape[0]
@@ -85,17 +91,48 @@ def choose_phi_c(
     known_pushes: Sequence[Push],
     *,
     candidates: NDArray[np.float64] = PHI_C_CANDIDATES_RAD,
+    follow_up: NDArray[np.float64] = FOLLOW_UP_RAD,
     dt: float = DT_S,
 ) -> Decision:
-    """Simulate every candidate φc ahead from ``state`` (one batch) and pick the best."""
+    """Pick φc for the next landing by a two-step look-ahead (two parallel batches).
+
+    Every candidate is simulated to its landing; from each landing every ``follow_up`` value is
+    tried for the landing after it (then φc = 0) over :data:`HORIZON_S`. A candidate scores the
+    best of its follow-ups: the controller will decide again at that landing, so judging a
+    candidate by φc = 0 afterwards would reject first steps that need one more corrected step.
+    """
     n = candidates.shape[0]
-    res = run_walkers(
-        model, [state] * n, HORIZON_S, pushes=[list(known_pushes)] * n,
-        phi_c=candidates, phi_c_until_bsp=True, dt=dt, fall_height_m=FALL_HEIGHT_M,
+    pushes = list(known_pushes)
+    first = run_walkers(
+        model, [state] * n, HORIZON_S, pushes=[pushes] * n, phi_c=candidates,
+        phi_c_until_bsp=True, dt=dt, fall_height_m=FALL_HEIGHT_M, stop_at_bsp=1,
     )  # fmt: skip
-    scores = [
-        _score(cycle, state.t_s, res.bsp_y[i], res.bsp_leg[i], res.fall_t_s[i]) for i in range(n)
-    ]
+    scores = np.full(n, np.inf)
+    alive = []
+    for i in range(n):
+        if first.fell[i] or first.bsp_leg[i, 0] == 0:
+            fall = first.fall_t_s[i] if first.fell[i] else first.end_t_s[i]
+            scores[i] = _FALL - (fall - state.t_s)
+        else:
+            alive.append(i)
+    if alive:
+        m = follow_up.shape[0]
+        starts = [first.final_state(i) for i in alive for _ in range(m)]
+        second = run_walkers(
+            model, starts, HORIZON_S, pushes=[pushes] * len(starts),
+            phi_c=np.tile(follow_up, len(alive)), phi_c_until_bsp=True, dt=dt,
+            fall_height_m=FALL_HEIGHT_M,
+        )  # fmt: skip
+        for a, i in enumerate(alive):
+            d0 = section_distance(cycle, first.bsp_y[i, :1], first.bsp_leg[i, :1])[0]
+            child = [
+                _score(
+                    cycle, first.end_t_s[i], second.bsp_y[a * m + j], second.bsp_leg[a * m + j],
+                    second.fall_t_s[a * m + j],
+                )
+                for j in range(m)
+            ]  # fmt: skip
+            scores[i] = d0 + min(child)
     best = int(np.argmin(scores))  # ties go to the smallest φc (candidates ascend from 0)
     return Decision(state.t_s, float(candidates[best]), tuple(candidates.tolist()), tuple(scores))
 
@@ -164,6 +201,11 @@ def simulate_walk(
                 )
             break
         ended_at_push = any(abs(state.t_s - e) < 0.5 * dt for e in push_ends)
-        remaining = ACTIVE_STEPS if ended_at_push else max(0, remaining - 1)
+        if ended_at_push:
+            remaining = ACTIVE_STEPS
+        elif seg.bsp_leg.size:
+            # keep reinitializing while the walker is still off its cycle at this landing
+            off = section_distance(cycle, seg.bsp_y[-1:], seg.bsp_leg[-1:])[0] > ON_CYCLE
+            remaining = max(remaining - 1, 1 if off and remaining > 0 else 0)
     ro = _concat(parts)
     return Walk(ro, tuple(decisions), ro.fall_t_s)
