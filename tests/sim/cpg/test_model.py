@@ -14,7 +14,7 @@ from animstudio.sim.cpg.params import N_STATE, CpgParams, time_constants, weight
 
 def _energy(p: CpgParams, y: np.ndarray) -> float:
     """Kinetic + potential energy of the 5 links computed from link kinematics (reference)."""
-    x1, x2, x3, x4, x5, x6 = y[:6]
+    _, x2, x3, x4, x5, x6 = y[:6]
     d = y[6:12]
     total = 0.5 * p.m1 * (d[0] ** 2 + d[1] ** 2) + p.m1 * p.g * x2
     for th, sh, dth, dsh, l_th, l_sh, m_th, m_sh in (
