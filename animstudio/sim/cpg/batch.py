@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from animstudio.errors import SimulationError
 from animstudio.sim.cpg import integrator as ig
-from animstudio.sim.cpg.model import DT_S, FALL_HEIGHT_M, CpgState, Model, Push
+from animstudio.sim.cpg.model import DT_S, FALL_HEIGHT_M, KNEE_FLOOR_M, CpgState, Model, Push
 from animstudio.sim.cpg.params import N_STATE
 
 
@@ -57,6 +57,7 @@ def run_walkers(
     posture: bool = True,
     dt: float = DT_S,
     fall_height_m: float = FALL_HEIGHT_M,
+    knee_floor_m: float = KNEE_FLOOR_M,
     stop_at_bsp: int = 0,
 ) -> BatchResult:
     """Simulate ``len(starts)`` walkers for ``duration_s`` each, each from its own start time.
@@ -93,7 +94,7 @@ def run_walkers(
     ig.run_batch(
         model.packed, model.tau, model.rate, model.w, ys, discs, t_starts, dt, n_steps,
         pt0, pt1, pf, times, values[:, None].copy(), values[:, None].copy(),
-        1.0 if posture else 0.0, fall_height_m,
+        1.0 if posture else 0.0, fall_height_m, knee_floor_m,
         ig.STOP_AT_BSP if stop_at_bsp > 0 else ig.STOP_NONE, stop_at_bsp,
         1 if phi_c_until_bsp else 0, bsp_t, bsp_leg, bsp_y, outs,
     )  # fmt: skip

@@ -86,7 +86,7 @@ def push_sweep(
         ]
         res = run_walkers(
             model, [start] * phases, float(period + horizon_s), pushes=pushes,
-            fall_height_m=params.T,
+            fall_height_m=params.T, knee_floor_m=-np.inf,
         )  # fmt: skip
         lo = np.where(res.fell, lo, mid)
         hi = np.where(res.fell, mid, hi)

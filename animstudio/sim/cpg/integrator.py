@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit, prange
 
 from animstudio.sim.cpg.dynamics import N_AUX, N_WORK, feet, rhs
-from animstudio.sim.cpg.params import I_HYST
+from animstudio.sim.cpg.params import I_HYST, I_L1, I_L3
 
 # Columns of a record row.
 C_T = 0
@@ -153,6 +153,7 @@ def run(
     phic_r: np.ndarray,
     posture_on: float,
     fall_height: float,
+    knee_floor: float,
     after_fall_s: float,
     stop_mode: int,
     stop_count: int,
@@ -223,7 +224,7 @@ def run(
             n_bsp += 1
             if stop_mode == STOP_AT_BSP and n_bsp >= stop_count:
                 break
-        if fall_t < 0.0 and y[1] < fall_height:
+        if fall_t < 0.0 and (y[1] < fall_height or _knee_low(p, y, knee_floor)):
             fall_t = t
         if fall_t >= 0.0 and t - fall_t >= after_fall_s:
             break
@@ -234,6 +235,11 @@ def run(
     out[3] = fall_t
     out[4] = bad
     out[5] = t
+
+
+@njit(cache=True, inline="always")
+def _knee_low(p: np.ndarray, y: np.ndarray, knee_floor: float) -> bool:
+    return min(y[1] - p[I_L1] * np.cos(y[2]), y[1] - p[I_L3] * np.cos(y[4])) < knee_floor
 
 
 @njit(cache=True)
@@ -286,6 +292,7 @@ def run_batch(
     phic_r: np.ndarray,
     posture_on: float,
     fall_height: float,
+    knee_floor: float,
     stop_mode: int,
     stop_count: int,
     phic_until_bsp: int,
@@ -306,7 +313,7 @@ def run_batch(
         run(
             p, tau, rate, w, ys[i], discs[i], t_starts[i], dt, n_steps, 1 << 30,
             push_t0[i], push_t1[i], push_f[i], phic_times[i], phic_l[i], phic_r[i],
-            posture_on, fall_height, 0.0, stop_mode, stop_count, phic_until_bsp, 0, rec,
+            posture_on, fall_height, knee_floor, 0.0, stop_mode, stop_count, phic_until_bsp, 0, rec,
             bsp_t[i], bsp_leg[i], bsp_y[i],
             outs[i],
         )  # fmt: skip

@@ -21,7 +21,9 @@ DT_S = 5e-4
 """Default RK4 step: converged (halving it changes period and speed < 0.1 %) and ~20 % below
 the explicit-stability limit set by the ground spring/damper (docs/cpg-model.md §3)."""
 FALL_HEIGHT_M = 0.55
-"""Product fall detector: hip below 0.55 m (normal walking keeps it at 0.84-0.90 m)."""
+"""Product fall detector: hip below 0.55 m (normal walking keeps it at 0.84-0.90 m) ..."""
+KNEE_FLOOR_M = 0.1
+"""... or a knee below 0.1 m (kneeling: the hip can stay high while the walker is down)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,6 +154,7 @@ def rollout(
     phi_c: tuple[Sequence[float], Sequence[float], Sequence[float]] = ((), (), ()),
     posture: bool = True,
     fall_height_m: float = FALL_HEIGHT_M,
+    knee_floor_m: float = KNEE_FLOOR_M,
     after_fall_s: float = 0.0,
     stop_at_bsp: int = 0,
     phi_c_until_bsp: bool = False,
@@ -163,6 +166,7 @@ def rollout(
             (``round(t / dt)``), so chained rollouts share one grid.
         phi_c: ``(times_s, left_rad, right_rad)``: piecewise-constant φc per leg (0 before).
         posture: ``False`` removes T_BSP entirely (the posture controller is off).
+        fall_height_m, knee_floor_m: the fall detector (hip or a knee below these heights).
         after_fall_s: keep simulating this long after a fall (the animation shows the fall).
         phi_c_until_bsp: φc applies only up to the first BSP of this rollout, then 0.
 
@@ -192,7 +196,7 @@ def rollout(
         raise SimulationError("phi_c schedule: times, left and right must match and times ascend")
     ig.run(
         model.packed, model.tau, model.rate, model.w, y, disc, state.t_s, dt, n, record_every,
-        pt0, pt1, pf, times, left, right, 1.0 if posture else 0.0, fall_height_m, after_fall_s,
+        pt0, pt1, pf, times, left, right, 1.0 if posture else 0.0, fall_height_m, knee_floor_m, after_fall_s,
         ig.STOP_AT_BSP if stop_at_bsp > 0 else ig.STOP_NONE, stop_at_bsp,
         1 if phi_c_until_bsp else 0, k0, rec, bsp_t, bsp_leg, bsp_y, out,
     )  # fmt: skip

@@ -145,4 +145,4 @@ def test_rhs_reports_torques_and_is_finite() -> None:
 def test_blow_up_is_a_simulation_error() -> None:
     p = CpgParams()
     with pytest.raises(SimulationError, match="non-finite"):
-        rollout(Model.build(p), init(p), 2.0, dt=1e-2, fall_height_m=-np.inf)
+        rollout(Model.build(p), init(p), 2.0, dt=1e-2, fall_height_m=-np.inf, knee_floor_m=-np.inf)

@@ -8,9 +8,10 @@ import pytest
 
 from animstudio.sim.cpg import experiments as ex
 from animstudio.sim.cpg.analysis import limit_cycle, section_distance, start_on_cycle
+from animstudio.sim.cpg.batch import run_walkers
 from animstudio.sim.cpg.model import Model, Push
 from animstudio.sim.cpg.params import CpgParams
-from animstudio.sim.cpg.reinit import choose_phi_c, simulate_walk
+from animstudio.sim.cpg.reinit import choose_phi_c
 
 pytestmark = pytest.mark.slow
 PARAMS = CpgParams()
@@ -45,8 +46,11 @@ def test_push_threshold_without_posture_controller() -> None:
     model = Model.build(PARAMS)
     for force, falls in ((sweep.min_n, False), (sweep.min_n + 2 * sweep.resolution_n, True)):
         push = Push(float(sweep.phases[weakest] * period), -force, ex.PUSH_S)
-        walk = simulate_walk(model, period + 6.0, [push], reinit="off", start=start)
-        assert (walk.fall_t_s is not None) == falls, force
+        res = run_walkers(
+            model, [start], period + 6.0, pushes=[[push]], fall_height_m=PARAMS.T,
+            knee_floor_m=-np.inf,
+        )  # fmt: skip
+        assert bool(res.fell[0]) == falls, force
 
 
 def test_successive_pushes_need_reinitialization() -> None:
