@@ -3,9 +3,11 @@
 viser's skinned mesh takes bone poses in *mesh space*: the bind pose when it is created and the
 current pose on every update (the client derives the bone inverses from the bind pose). With
 the mesh at the scene origin, mesh space is the world, so both are forward kinematics of the
-clip: the rest pose for the bind, and every frame for playback. Doing FK for all frames up
-front (vectorised, a few ms for a minute of animation) keeps the playback thread to array
-lookups.
+clip: the rest pose for the bind, and the shown frame during playback.
+
+The frame's pose is computed when it is shown (a fraction of a millisecond for one frame)
+rather than for every frame up front: FK of a whole minute (1800 frames) takes ~35 ms, which
+would sit on the live-reload path between a save and the updated view.
 """
 
 from __future__ import annotations
@@ -28,8 +30,6 @@ class PosedClip:
         clip: the source clip.
         bind_wxyz: ``(J, 4) float32`` wxyz world rotation of every joint in the rest (bind) pose.
         bind_positions: ``(J, 3) float32`` metres, world position of every joint in the bind pose.
-        bone_wxyz: ``(F, J, 4) float32`` wxyz world rotation of every joint per frame.
-        bone_positions: ``(F, J, 3) float32`` metres, world position of every joint per frame.
         skin_weights: ``(V, J) float32`` dense weights (rows sum to 1), ``None`` without a mesh.
         bone_segments: ``(J - 1, 2)`` int joint index pairs ``(parent, child)``, for drawing the
             skeleton as lines.
@@ -38,8 +38,6 @@ class PosedClip:
     clip: Clip
     bind_wxyz: NDArray[np.float32]
     bind_positions: NDArray[np.float32]
-    bone_wxyz: NDArray[np.float32]
-    bone_positions: NDArray[np.float32]
     skin_weights: NDArray[np.float32] | None
     bone_segments: NDArray[np.int64]
 
@@ -47,13 +45,21 @@ class PosedClip:
     def num_frames(self) -> int:
         return self.clip.num_frames
 
+    def frame_pose(self, frame: int) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+        """World ``(J, 4)`` wxyz rotations and ``(J, 3)`` positions (metres) of every joint at ``frame``."""
+        clip = self.clip
+        local_t = clip.skeleton.rest_translations.copy()
+        local_t[0] = clip.root_translations[frame]
+        world_m, world_t = world_transforms(clip.skeleton, clip.local_rotations[frame], local_t)
+        return quat.from_matrix(world_m).astype(np.float32), world_t.astype(np.float32)
+
     def focus_point(self, frame: int) -> NDArray[np.float64]:
-        """``(3,)`` the point the camera follows at ``frame``: the root joint."""
-        return self.bone_positions[frame, 0].astype(np.float64)
+        """``(3,)`` the point the camera follows at ``frame``: the root joint (its local = world)."""
+        return np.array(self.clip.root_translations[frame], dtype=np.float64)
 
     def segments_world(self, frame: int) -> NDArray[np.float32]:
         """``(J - 1, 2, 3)`` parent-to-child bone lines at ``frame``."""
-        return self.bone_positions[frame][self.bone_segments]
+        return self.frame_pose(frame)[1][self.bone_segments]
 
 
 def dense_skin_weights(clip: Clip) -> NDArray[np.float32] | None:
@@ -70,17 +76,14 @@ def dense_skin_weights(clip: Clip) -> NDArray[np.float32] | None:
 
 
 def pose_clip(clip: Clip) -> PosedClip:
-    """Forward kinematics of the bind pose and of every frame of ``clip``."""
+    """The bind pose of ``clip`` in the form the viewer sends (frames are posed on demand)."""
     skeleton = clip.skeleton
     rest_m, rest_t = rest_world_transforms(skeleton)
-    world_m, world_t = world_transforms(skeleton, clip.local_rotations, clip.local_translations())
     segments = np.array([(p, j) for j, p in enumerate(skeleton.parents) if p >= 0], dtype=np.int64)
     return PosedClip(
         clip=clip,
         bind_wxyz=quat.from_matrix(rest_m).astype(np.float32),
         bind_positions=rest_t.astype(np.float32),
-        bone_wxyz=quat.from_matrix(world_m).astype(np.float32),
-        bone_positions=world_t.astype(np.float32),
         skin_weights=dense_skin_weights(clip),
         bone_segments=segments.reshape(-1, 2),
     )

@@ -11,7 +11,7 @@ import numpy as np
 import viser
 
 from animstudio.preview.pose import PosedClip
-from animstudio.preview.stairs import stairs_for_clip
+from animstudio.preview.stairs import StairFlight, stairs_for_clip
 
 CHARACTER_COLOR = (90, 150, 220)
 BONE_COLOR = (30, 60, 160)
@@ -43,6 +43,7 @@ class CharacterView:
         self._bones: viser.LineSegmentsHandle | None = None
         self._posed: PosedClip | None = None
         self._stairs: list[viser.BoxHandle] = []
+        self._flights: tuple[StairFlight, ...] | None = None
         self._grid: viser.GridHandle | None = None
         self._grid_extent: tuple[float, float, float, float] | None = None
         self.num_stair_boxes = 0
@@ -92,8 +93,7 @@ class CharacterView:
     def show_frame(self, posed: PosedClip, frame: int) -> None:
         """Pose the character at ``frame``."""
         if self._mesh is not None:
-            wxyz = posed.bone_wxyz[frame]
-            pos = posed.bone_positions[frame]
+            wxyz, pos = posed.frame_pose(frame)
             for j, bone in enumerate(self._mesh.bones):
                 bone.wxyz = wxyz[j]
                 bone.position = pos[j]
@@ -121,17 +121,26 @@ class CharacterView:
         self._grid_extent = extent
 
     def _set_stairs(self, posed: PosedClip) -> None:
-        for box in self._stairs:
-            box.remove()
-        self._stairs = []
-        for f, flight in enumerate(stairs_for_clip(posed.clip)):
-            for b, step in enumerate(flight.boxes):
-                self._stairs.append(
-                    self._server.scene.add_box(
-                        f"/stairs/flight{f}/box{b}",
-                        dimensions=step.size,
-                        position=step.center,
-                        color=STAIR_COLOR,
-                    )
+        flights = stairs_for_clip(posed.clip)
+        if flights == self._flights:
+            return  # an edit elsewhere in the script: the same stairs stay
+        self._flights = flights
+        steps = [step for flight in flights for step in flight.boxes]
+        # Move the boxes there are (a re-timed script shifts its stairs) rather than re-create
+        # them: creating a scene node costs ~1 ms of viser bookkeeping, on the reload path.
+        for handle, step in zip(self._stairs, steps, strict=False):
+            handle.dimensions = step.size
+            handle.position = step.center
+        for handle in self._stairs[len(steps) :]:
+            handle.remove()
+        for b in range(len(self._stairs), len(steps)):
+            self._stairs.append(
+                self._server.scene.add_box(
+                    f"/stairs/box{b}",
+                    dimensions=steps[b].size,
+                    position=steps[b].center,
+                    color=STAIR_COLOR,
                 )
+            )
+        del self._stairs[len(steps) :]
         self.num_stair_boxes = len(self._stairs)

@@ -2,7 +2,7 @@
 
 Polling (mtime + size, then a content hash) rather than inotify: it works the same on every
 platform and file system, including network mounts and editors that save by writing a new file
-and renaming it over the old one. A stat every 50 ms costs microseconds.
+and renaming it over the old one. A stat every 25 ms costs microseconds.
 """
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ from animstudio.preview.source import Fingerprint, fingerprint
 
 log = logging.getLogger(__name__)
 
-POLL_INTERVAL_S = 0.05
-SETTLE_S = 0.02
+POLL_INTERVAL_S = 0.025
+SETTLE_S = 0.015
 """A change is reported once the file has kept the same contents this long: an editor that
 truncates and then writes would otherwise be caught between the two (an empty script)."""
 

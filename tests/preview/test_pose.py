@@ -1,4 +1,4 @@
-"""Bone poses for viser's skinned mesh: forward kinematics of the bind pose and every frame."""
+"""Bone poses for viser's skinned mesh: forward kinematics of the bind pose and of a frame."""
 
 from __future__ import annotations
 
@@ -7,28 +7,30 @@ import numpy as np
 from animstudio.core import quat
 from animstudio.core.clip import Clip
 from animstudio.core.fk import joint_positions
-from animstudio.preview.pose import dense_skin_weights, pose_clip
+from animstudio.preview.pose import PosedClip, dense_skin_weights, pose_clip
 
 
-def _skin(posed, frame: int) -> np.ndarray:  # type: ignore[no-untyped-def]
+def _skin(posed: PosedClip, bone_wxyz: np.ndarray, bone_pos: np.ndarray) -> np.ndarray:
     # Linear blend skinning as the browser does it: bone * inverse(bind) * vertex, weighted.
     mesh = posed.clip.mesh
-    v = mesh.vertices
+    assert mesh is not None and posed.skin_weights is not None
     bind_m = quat.to_matrix(posed.bind_wxyz.astype(np.float64))
-    pose_m = quat.to_matrix(posed.bone_wxyz[frame].astype(np.float64))
-    local = np.einsum("jki,vjk->vji", bind_m, v[:, None, :] - posed.bind_positions[None])
-    world = np.einsum("jik,vjk->vji", pose_m, local) + posed.bone_positions[frame][None]
+    pose_m = quat.to_matrix(bone_wxyz.astype(np.float64))
+    local = np.einsum(
+        "jki,vjk->vji", bind_m, mesh.vertices[:, None, :] - posed.bind_positions[None]
+    )
+    world = np.einsum("jik,vjk->vji", pose_m, local) + bone_pos[None]
     return np.einsum("vj,vji->vi", posed.skin_weights, world)
 
 
-def test_bone_positions_are_the_clips_joint_positions(walk_climb_clip: Clip) -> None:
+def test_frame_poses_are_the_clips_joint_positions(walk_climb_clip: Clip) -> None:
     posed = pose_clip(walk_climb_clip)
-    assert np.allclose(posed.bone_positions, joint_positions(walk_climb_clip), atol=1e-5)
-    assert posed.bone_wxyz.shape == (
-        walk_climb_clip.num_frames,
-        walk_climb_clip.skeleton.num_joints,
-        4,
-    )
+    positions = joint_positions(walk_climb_clip)
+    for frame in (0, 64, 194):
+        wxyz, pos = posed.frame_pose(frame)
+        assert wxyz.shape == (walk_climb_clip.skeleton.num_joints, 4)
+        assert np.allclose(pos, positions[frame], atol=1e-5)
+        assert np.allclose(posed.focus_point(frame), walk_climb_clip.root_translations[frame])
 
 
 def test_dense_weights_keep_every_influence(walk_climb_clip: Clip) -> None:
@@ -46,28 +48,22 @@ def test_skinning_the_bind_pose_gives_the_rest_mesh_and_frames_move_it(
 ) -> None:
     posed = pose_clip(walk_climb_clip)
     mesh = walk_climb_clip.mesh
-    assert mesh is not None
-    rest_posed = posed.__class__(
-        clip=posed.clip,
-        bind_wxyz=posed.bind_wxyz,
-        bind_positions=posed.bind_positions,
-        bone_wxyz=posed.bind_wxyz[None],
-        bone_positions=posed.bind_positions[None],
-        skin_weights=posed.skin_weights,
-        bone_segments=posed.bone_segments,
+    assert mesh is not None and posed.skin_weights is not None
+    assert np.allclose(
+        _skin(posed, posed.bind_wxyz, posed.bind_positions), mesh.vertices, atol=1e-5
     )
-    assert np.allclose(_skin(rest_posed, 0), mesh.vertices, atol=1e-5)
     # A vertex bound to one joint only keeps its distance to that joint in every frame.
     rigid = np.nonzero(posed.skin_weights.max(axis=1) > 0.999)[0][::50]
     joint = posed.skin_weights[rigid].argmax(axis=1)
     rest_d = np.linalg.norm(mesh.vertices[rigid] - posed.bind_positions[joint], axis=1)
     for frame in (0, 77, 150):
-        moved = _skin(posed, frame)[rigid]
-        d = np.linalg.norm(moved - posed.bone_positions[frame][joint], axis=1)
+        wxyz, pos = posed.frame_pose(frame)
+        d = np.linalg.norm(_skin(posed, wxyz, pos)[rigid] - pos[joint], axis=1)
         assert np.allclose(d, rest_d, atol=1e-4)
     # The pelvis is not rotated by the rig: its skin moves by the root translation.
     pelvis = np.nonzero(posed.skin_weights[:, 0] > 0.999)[0]
     assert pelvis.size > 0
     delta = walk_climb_clip.root_translations[150] - walk_climb_clip.root_translations[0]
-    frame0 = _skin(posed, 0)[pelvis]
-    assert np.allclose(_skin(posed, 150)[pelvis] - frame0, delta, atol=1e-4)
+    at0 = _skin(posed, *posed.frame_pose(0))[pelvis]
+    at150 = _skin(posed, *posed.frame_pose(150))[pelvis]
+    assert np.allclose(at150 - at0, delta, atol=1e-4)
