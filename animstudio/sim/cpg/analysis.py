@@ -88,7 +88,11 @@ def limit_cycle(params: CpgParams) -> LimitCycle:
         SimulationError: the walker falls or has not settled (stride periods vary > 1 %).
     """
     model = Model.build(params)
-    ro = rollout(model, init(params), SETTLE_S, record_every=1 << 20)
+    # the start from rest crouches deeply before it walks: judge it by the paper's fall (x2 < T)
+    ro = rollout(
+        model, init(params), SETTLE_S, record_every=1 << 20, fall_height_m=params.T,
+        knee_floor_m=-np.inf,
+    )  # fmt: skip
     if ro.fall_t_s is not None:
         raise SimulationError(f"the walker falls at {ro.fall_t_s:.2f} s from the initial condition")
     stats = stride_stats(ro, params, strides=10)

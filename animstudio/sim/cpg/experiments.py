@@ -32,7 +32,10 @@ def normal_walking(
     params: CpgParams, duration_s: float = 60.0, *, dt: float = DT_S
 ) -> tuple[StrideStats, Rollout]:
     """Walk ``duration_s`` from the stated initial condition; figures over the last 20 strides."""
-    ro = rollout(Model.build(params), init(params), duration_s, dt=dt, record_every=1 << 30)
+    ro = rollout(
+        Model.build(params), init(params), duration_s, dt=dt, record_every=1 << 30,
+        fall_height_m=params.T, knee_floor_m=-np.inf,
+    )  # fmt: skip
     return stride_stats(ro, params, strides=20), ro
 
 
@@ -42,7 +45,10 @@ def convergence(
     """The settled walk at ``dt`` and at ``dt / 2`` (strides 10 over the last part of each)."""
     out = []
     for step in (dt, dt / 2):
-        ro = rollout(Model.build(params), init(params), duration_s, dt=step, record_every=1 << 30)
+        ro = rollout(
+            Model.build(params), init(params), duration_s, dt=step, record_every=1 << 30,
+            fall_height_m=params.T, knee_floor_m=-np.inf,
+        )  # fmt: skip
         out.append(stride_stats(ro, params, strides=10))
     return out[0], out[1]
 
