@@ -145,6 +145,12 @@ class PreviewApp:
             return None if self._posed is None else self._posed.clip
 
     @property
+    def camera_following(self) -> dict[int, bool]:
+        """Per connected client: whether its camera follows the character."""
+        with self._lock:
+            return {cid: f.following for cid, f in self._followers.items()}
+
+    @property
     def shown_frame(self) -> int:
         return self._shown_frame
 

@@ -182,3 +182,24 @@ def _marks(series: list[list[float | None]], index: int) -> list[float]:
             if yv is not None and xv is not None
         }
     )
+
+
+def test_user_panning_takes_the_camera_over(preview: tuple[PreviewApp, Any, Path]) -> None:
+    app, page, _ = preview
+    app.set_follow(True)
+    app.gui.set_follow(True)
+    _pause_at(app, page, 10)
+    assert app.gui.follow_enabled and all(app.camera_following.values())
+    # A right-button drag pans the camera (moves its look-at point off the character).
+    page.mouse.move(300, 300)
+    page.mouse.down(button="right")
+    for step in range(1, 11):
+        page.mouse.move(300 + 12 * step, 300 + 6 * step)
+    page.mouse.up(button="right")
+    wait_for(lambda: not app.gui.follow_enabled, 30.0, "the follow box to untick after a pan")
+    assert not any(app.camera_following.values())
+    assert "Follow camera" in page_text(page)
+    # Ticking it again hands the camera back to the character.
+    page.get_by_text("Follow camera").click()
+    wait_for(lambda: app.gui.follow_enabled, 30.0, "follow to resume")
+    wait_for(lambda: all(app.camera_following.values()), 30.0, "the camera to follow again")
