@@ -8,7 +8,9 @@ display needed) and are written atomically (``animstudio.export.atomic.write_wit
 
 from __future__ import annotations
 
+import difflib
 import importlib
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from types import ModuleType
 
@@ -30,36 +32,27 @@ def kinds(engine: str) -> tuple[str, ...]:
     return tuple(module.KINDS) if module is not None else ()
 
 
-class _KindsByEngine(dict[str, tuple[str, ...]]):
-    """``engine -> kinds``, each engine's plot module imported on first access."""
+class _KindsByEngine(Mapping[str, tuple[str, ...]]):
+    """``engine -> kinds`` over every engine; each plot module is imported on first access."""
 
-    def __missing__(self, engine: str) -> tuple[str, ...]:
+    def __init__(self) -> None:
+        self._cache: dict[str, tuple[str, ...]] = {}
+
+    def __getitem__(self, engine: str) -> tuple[str, ...]:
         if engine not in ENGINES:
             raise KeyError(engine)
-        value = kinds(engine)
-        self[engine] = value
-        return value
+        if engine not in self._cache:
+            self._cache[engine] = kinds(engine)
+        return self._cache[engine]
 
-    def __iter__(self):  # type: ignore[no-untyped-def]
+    def __iter__(self) -> Iterator[str]:
         return iter(ENGINES)
 
     def __len__(self) -> int:
         return len(ENGINES)
 
-    def __contains__(self, engine: object) -> bool:
-        return engine in ENGINES
 
-    def items(self):  # type: ignore[no-untyped-def, override]
-        return [(e, self[e]) for e in ENGINES]
-
-    def keys(self):  # type: ignore[no-untyped-def, override]
-        return list(ENGINES)
-
-    def values(self):  # type: ignore[no-untyped-def, override]
-        return [self[e] for e in ENGINES]
-
-
-KINDS_BY_ENGINE: dict[str, tuple[str, ...]] = _KindsByEngine()
+KINDS_BY_ENGINE: Mapping[str, tuple[str, ...]] = _KindsByEngine()
 """``engine -> figure kinds``, filled lazily from ``animstudio.plots.<engine>.KINDS``."""
 
 
@@ -74,8 +67,10 @@ def plot(
     valid = KINDS_BY_ENGINE[script.engine]
     if kind not in valid:
         listing = ", ".join(f"'{k}'" for k in valid) if valid else "none"
+        close = difflib.get_close_matches(kind, valid, n=1, cutoff=0.6)
+        hint = f"did you mean '{close[0]}'? " if close else ""
         raise UnknownName(
-            f"unknown plot kind '{kind}' for engine {script.engine} (valid kinds: {listing})"
+            f"unknown plot kind '{kind}' for engine {script.engine} ({hint}valid kinds: {listing})"
         )
     module = _module(script.engine)
     assert module is not None  # valid is non-empty only for engines with a module

@@ -110,3 +110,18 @@ def test_render_to_clip() -> None:
     clip = render(parse_script("engine cpg\nfps 24\nwalk 48\n", path="r.gait"))
     assert clip.num_frames == 48 and clip.fps == 24
     assert "left_knee_torque_nm" in clip.curves
+
+
+def test_plots_render_png_and_reject_unknown_kinds(tmp_path: Path) -> None:
+    from animstudio.errors import UnknownName
+    from animstudio.plots import KINDS_BY_ENGINE, plot
+
+    assert KINDS_BY_ENGINE["cpg"] == ("stick", "neurons", "torque")
+    script = parse_script("engine cpg\nwalk 30\npush 200N\nwalk 30\n", path="p.gait")
+    for kind in KINDS_BY_ENGINE["cpg"]:
+        out = tmp_path / f"{kind}.png"
+        plot(script, kind, out)
+        assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(UnknownName, match=r"did you mean 'stick'\? valid kinds: 'stick', 'neurons'"):
+        plot(script, "stik", tmp_path / "x.png")
+    assert not (tmp_path / "x.png").exists()

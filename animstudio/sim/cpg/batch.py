@@ -52,7 +52,7 @@ def run_walkers(
     duration_s: float,
     *,
     pushes: Sequence[Sequence[Push]] | None = None,
-    phi_c: Sequence[float] | None = None,
+    phi_c: Sequence[float] | NDArray[np.float64] | None = None,
     phi_c_until_bsp: bool = False,
     posture: bool = True,
     dt: float = DT_S,
