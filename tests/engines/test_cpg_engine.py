@@ -122,6 +122,8 @@ def test_plots_render_png_and_reject_unknown_kinds(tmp_path: Path) -> None:
         out = tmp_path / f"{kind}.png"
         plot(script, kind, out)
         assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    with pytest.raises(UnknownName, match=r"did you mean 'stick'\? valid kinds: 'stick', 'neurons'"):
+    with pytest.raises(
+        UnknownName, match=r"did you mean 'stick'\? valid kinds: 'stick', 'neurons'"
+    ):
         plot(script, "stik", tmp_path / "x.png")
     assert not (tmp_path / "x.png").exists()
