@@ -118,7 +118,7 @@ def main() -> None:
             page_ctx = None
             page = None
             if not args.no_browser:
-                from browser import CHROMIUM, chromium_page, status_frame
+                from preview_browser import CHROMIUM, chromium_page, status_frame
 
                 if CHROMIUM.exists():
                     page_ctx = chromium_page(Path(tmp) / "profile")

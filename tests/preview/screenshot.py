@@ -17,8 +17,8 @@ HERE = Path(__file__).parent
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE))
 
-from browser import chromium_page, settled_canvas, status_frame, wait_for  # noqa: E402
-from conftest import free_port  # noqa: E402
+from preview_browser import chromium_page, settled_canvas, status_frame, wait_for  # noqa: E402
+from preview_scripts import free_port  # noqa: E402
 
 from animstudio.preview import PreviewApp  # noqa: E402
 

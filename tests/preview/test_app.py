@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from conftest import OBB_SCRIPT, SOM_SCRIPT, free_port
+from preview_scripts import OBB_SCRIPT, SOM_SCRIPT, free_port
 
 from animstudio import pipeline
 from animstudio.export.usd import write_usd
@@ -93,7 +93,7 @@ def test_a_corrupt_usd_file_is_a_located_error_not_a_crash(tmp_path: Path) -> No
 
 
 def test_status_and_error_texts() -> None:
-    from synthetic import synthetic_clip
+    from preview_synthetic import synthetic_clip
 
     clip = synthetic_clip()
     text = status_markdown(clip, 100, playing=False)

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from browser import (
+from preview_browser import (
     chromium_page,
     page_text,
     settled_canvas,
@@ -21,7 +21,7 @@ from browser import (
     uplot_series,
     wait_for,
 )
-from conftest import SOM_SCRIPT, free_port
+from preview_scripts import SOM_SCRIPT, free_port
 
 from animstudio.preview import PreviewApp
 

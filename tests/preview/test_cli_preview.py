@@ -10,7 +10,7 @@ import time
 import urllib.request
 from pathlib import Path
 
-from conftest import SOM_SCRIPT, free_port
+from preview_scripts import SOM_SCRIPT, free_port
 
 ROOT = Path(__file__).parents[2]
 

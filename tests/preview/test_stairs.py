@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from synthetic import CLIMB, RISE_M, RUN_M, STEPS, WALK1
+from preview_synthetic import CLIMB, RISE_M, RUN_M, STEPS, WALK1
 
 from animstudio.core.clip import Clip, ClipSegment
 from animstudio.preview.stairs import count_steps, stairs_for_clip
