@@ -30,6 +30,8 @@ from animstudio.sim.cpg.reinit import Walk
 KINDS: tuple[str, ...] = ("stick", "neurons", "torque")
 STICK_EVERY_S = 0.04
 """Time between two drawn postures of the stick figure."""
+STICK_WINDOW_S = 8.0
+"""Stretch of a push-free walk the stick figure shows."""
 
 
 def _save(fig: Figure, out_path: Path) -> None:
@@ -44,10 +46,26 @@ def _push_list(records: NDArray[np.float64]) -> list[tuple[float, float, float]]
 
 
 def stick_figure(walk: Walk, params: CpgParams, title: str) -> Figure:
-    """Fig. 4: both legs drawn every :data:`STICK_EVERY_S`, pushes as dotted hip positions."""
+    """Fig. 4: both legs drawn every :data:`STICK_EVERY_S`, pushes as dotted hip positions.
+
+    Long walks show the stretch around the pushes (from 2 s before the first to 4 s after the
+    last) or, without pushes, the first :data:`STICK_WINDOW_S`, so the figure stays legible.
+    """
     rec = walk.rollout.records
+    pushes = _push_list(rec)
+    t = rec[:, ig.C_T]
+    if pushes:
+        t0, t1 = pushes[0][0] - 2.0, pushes[-1][0] + 4.0
+    else:
+        t0, t1 = t[0], t[0] + STICK_WINDOW_S
+    if walk.fall_t_s is not None:
+        t1 = max(t1, walk.fall_t_s + 2.0)
+    rec = rec[(t >= t0) & (t <= t1)]
     step = max(1, round(STICK_EVERY_S / (rec[1, ig.C_T] - rec[0, ig.C_T])))
-    fig = Figure(figsize=(14, 3.6), layout="constrained")
+    span = float(np.ptp(rec[:, ig.C_X])) + 1.0
+    width = min(16.0, max(6.0, 1.6 * span))
+    height = max(2.5, width * 1.2 / span + 1.3)  # equal aspect: 1.2 m of height over the span
+    fig = Figure(figsize=(width, height), layout="constrained")
     ax = fig.subplots()
     for row in rec[::step]:
         x1, x2, x3, x4, x5, x6 = row[ig.C_X : ig.C_X + 6]
@@ -58,18 +76,21 @@ def stick_figure(walk: Walk, params: CpgParams, title: str) -> Figure:
             knee = (x1 + l_th * np.sin(th), x2 - l_th * np.cos(th))
             ankle = (knee[0] + l_sh * np.sin(sh), knee[1] - l_sh * np.cos(sh))
             ax.plot([x1, knee[0], ankle[0]], [x2, knee[1], ankle[1]], color=colour, lw=0.6)
-    for t, f, x in _push_list(rec):
+    for i, (tp, f, x) in enumerate(pushes):
         ax.axvline(x, color="k", ls=":", lw=1.2)
-        ax.text(x, 0.97, f"{abs(f):.0f} N at {t:.2f} s", ha="center", va="bottom", fontsize=7)
+        y = 0.93 + 0.08 * (i % 2)  # staggered: pushes a step apart would overlap
+        ax.text(x, y, f"{abs(f):.0f} N at {tp:.2f} s", ha="center", va="bottom", fontsize=7)
     if walk.fall_t_s is not None:
         ax.set_title(f"{title} — fell at {walk.fall_t_s:.2f} s", color="tab:red")
     else:
         ax.set_title(title)
     ax.axhline(0.0, color="0.4", lw=0.8)
     ax.set_aspect("equal")
-    ax.set_xlabel("x (m)   blue: left leg, orange: right leg")
+    ax.set_xlabel(
+        f"x (m), {rec[0, ig.C_T]:.1f}-{rec[-1, ig.C_T]:.1f} s   blue: left leg, orange: right leg"
+    )
     ax.set_ylabel("height (m)")
-    ax.set_ylim(-0.1, 1.1)
+    ax.set_ylim(-0.1, 1.12)
     return fig
 
 
