@@ -90,8 +90,8 @@ def test_a_fall_is_reported_shown_and_held() -> None:
     assert ch.notes and ch.notes[0].startswith("walker fell at ") and ch.notes[0] == fall.label
     assert 3.0 < fall.frame / 30 < 9.0  # after the push at 3 s
     hip = ch.root_position_m[:, 1]
-    assert hip[fall.frame] < 0.9 * hip[0]  # detected early: the walker crouches, then goes down
-    assert hip[fall.frame :].min() < hip[fall.frame] - 0.05
+    assert hip[fall.frame] < 0.8 * hip[0]
+    assert hip[fall.frame :].max() < 0.9 * hip[0]  # and it does not get up again
     # the last pose is held once the body is down
     assert np.all(ch.root_position_m[-10:] == ch.root_position_m[-1])
     assert np.all(ch.angles["left_thigh_deg"][-10:] == ch.angles["left_thigh_deg"][-1])

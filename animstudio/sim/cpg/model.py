@@ -20,8 +20,8 @@ from animstudio.sim.cpg.params import N_STATE, CpgParams, time_constants, weight
 DT_S = 5e-4
 """Default RK4 step: converged (halving it changes period and speed < 0.1 %) and ~20 % below
 the explicit-stability limit set by the ground spring/damper (docs/cpg-model.md §3)."""
-FALL_HEIGHT_M = 0.7
-"""Product fall detector: hip below 0.7 m (walking, also recovering from pushes, keeps it above
+FALL_HEIGHT_M = 0.6
+"""Product fall detector: hip below 0.6 m (walking, also recovering from pushes, keeps it above
 0.84 m; a stumbling walker that crouches lower does not get up again) ..."""
 KNEE_FLOOR_M = 0.1
 """... or a knee below 0.1 m (kneeling: the hip can stay high while the walker is down)."""
