@@ -73,6 +73,8 @@ def preview_command(source: Path, host: str, port: int, weights: Path | None) ->
     app = None
     try:
         app = PreviewApp(source, host=host, port=port, options=EngineOptions(weights=weights))
+        if app.server.get_port() != port:
+            warn(f"port {port} is taken; using {app.server.get_port()}")
         if app.error is not None:
             warn(f"the script does not render yet; fix it and save:\n{app.error}")
         click.echo(f"previewing {source} at {app.url}  (Ctrl-C to stop)")

@@ -15,6 +15,7 @@ import io
 import logging
 import threading
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,6 +35,12 @@ from animstudio.preview.source import load_clip
 from animstudio.preview.watch import FileWatcher
 
 log = logging.getLogger(__name__)
+
+# A browser tab closed while a frame was being sent is normal here; viser warns about the
+# camera writes that raced with the disconnect. Only that message is silenced.
+warnings.filterwarnings(
+    "ignore", message=r"Queued a \w+ on a closed connection", category=UserWarning
+)
 
 CAMERA_DIRECTION = np.array([1.2, 0.6, -3.6]) / np.linalg.norm([1.2, 0.6, -3.6])
 """From the followed root towards the camera at start: ahead, above and to the character's left."""
@@ -269,24 +276,33 @@ class PreviewApp:
 
     def _play_loop(self) -> None:
         while not self._stop.is_set():
-            now = time.perf_counter()
-            with self._lock:
-                if self._posed is not None:
-                    status = self.clock.frame_at(now)
-                    if status.frame != self._shown_frame:
-                        with self.server.atomic():
-                            self._show(status.frame, force_curves=not status.playing)
-                    elif self._curves_frame != status.frame and (
-                        not status.playing or now - self._curves_time >= CURVE_UPDATE_PERIOD_S
-                    ):
-                        self.gui.set_curves_frame(status.frame)
-                        self._curves_frame, self._curves_time = status.frame, now
-                    if status.finished:
-                        self.gui.set_playing(False)
-                next_s = self.clock.next_frame_time(now)
-            wait = min(max(next_s - time.perf_counter(), 0.0), CURVE_UPDATE_PERIOD_S)
+            try:
+                wait = self._play_once()
+            except Exception:  # a failed frame must not end playback for the session
+                log.exception("showing a frame failed")
+                wait = CURVE_UPDATE_PERIOD_S
             self._wake.wait(wait)
             self._wake.clear()
+
+    def _play_once(self) -> float:
+        # Show the frame due now; return how long to sleep before the next one.
+        now = time.perf_counter()
+        with self._lock:
+            if self._posed is None:
+                return CURVE_UPDATE_PERIOD_S
+            status = self.clock.frame_at(now)
+            if status.frame != self._shown_frame:
+                with self.server.atomic():
+                    self._show(status.frame, force_curves=not status.playing)
+            elif self._curves_frame != status.frame and (
+                not status.playing or now - self._curves_time >= CURVE_UPDATE_PERIOD_S
+            ):
+                self.gui.set_curves_frame(status.frame)
+                self._curves_frame, self._curves_time = status.frame, now
+            if status.finished:
+                self.gui.set_playing(False)
+            next_s = self.clock.next_frame_time(now)
+        return min(max(next_s - time.perf_counter(), 0.0), CURVE_UPDATE_PERIOD_S)
 
     def _show(self, frame: int, *, force_curves: bool) -> None:
         # Caller holds the lock and an atomic() block.

@@ -136,8 +136,10 @@ class PreviewGui:
     # -- called by the app --------------------------------------------------------------------
 
     def set_playing(self, playing: bool) -> None:
-        self.play_button.label = "Pause" if playing else "Play"
-        self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
+        label = "Pause" if playing else "Play"
+        if self.play_button.label != label:  # called every frame: send only real changes
+            self.play_button.label = label
+            self.play_button.icon = viser.Icon.PLAYER_PAUSE if playing else viser.Icon.PLAYER_PLAY
 
     def set_follow(self, follow: bool) -> None:
         self.follow_box.value = follow  # type: ignore[misc]  # viser's setter
