@@ -120,15 +120,21 @@ class PreviewApp:
         # library never prints (the CLI prints the URL), so those go to a discarded buffer.
         with contextlib.redirect_stdout(io.StringIO()):
             self.server = viser.ViserServer(host=host, port=port, verbose=False)
-        self.server.scene.set_up_direction("+y")
-        self.view = CharacterView(self.server)
-        self.gui = PreviewGui(self.server, self)
-        self.server.on_client_connect(self._on_connect)
-        self.server.on_client_disconnect(self._on_disconnect)
-
-        first = self._load()
-        if isinstance(first, Clip):
-            self._install(first, keep_frame=False)
+        try:
+            self.server.scene.set_up_direction("+y")
+            self.view = CharacterView(self.server)
+            self.gui = PreviewGui(self.server, self)
+            self.server.on_client_connect(self._on_connect)
+            self.server.on_client_disconnect(self._on_disconnect)
+            first = self._load()
+            if isinstance(first, Clip):
+                self._install(first, keep_frame=False)
+        except BaseException:
+            # Never leave a server thread behind a failed start (the process would not exit).
+            with contextlib.redirect_stdout(io.StringIO()):
+                self.server.stop()
+            raise
+        self._reload_lock = threading.Lock()
         self._watcher = FileWatcher(self.path, self.reload) if watch else None
         self._player = threading.Thread(target=self._play_loop, name="animstudio-play", daemon=True)
         self._player.start()
@@ -167,12 +173,13 @@ class PreviewApp:
         A failing script leaves the last good clip on show and displays the error.
         """
         detected = time.perf_counter() if detected_s is None else detected_s
-        result = self._load()
-        rendered = time.perf_counter()
-        ok = isinstance(result, Clip)
-        if isinstance(result, Clip):
-            self._install(result, keep_frame=True)
-        updated = time.perf_counter()
+        with self._reload_lock:  # one reload at a time, so clips are installed in save order
+            result = self._load()
+            rendered = time.perf_counter()
+            ok = isinstance(result, Clip)
+            if isinstance(result, Clip):
+                self._install(result, keep_frame=True)
+            updated = time.perf_counter()
         timing = ReloadTiming(detected, rendered, updated, ok)
         with self._lock:
             self.reloads.append(timing)
@@ -238,13 +245,23 @@ class PreviewApp:
 
     # -- loading ----------------------------------------------------------------------------
 
-    def _load(self) -> Clip | AnimstudioError:
+    def _load(self) -> Clip | Exception:
         try:
             clip = self._loader(self.path)
-        except AnimstudioError as exc:
+        except Exception as exc:
+            if isinstance(exc, AnimstudioError):
+                message = str(exc)
+            else:
+                # Not the script's fault: an engine or rig bug. Keep serving the last good clip
+                # and say what happened; the traceback goes to the log for a bug report.
+                log.exception("rendering %s failed", self.path)
+                message = (
+                    f"{self.path}: internal error while rendering "
+                    f"({type(exc).__name__}: {exc}); please report it"
+                )
             with self._lock:
-                self.error = str(exc)
-            self.gui.show_error(str(exc), self.server.get_clients().values())
+                self.error = message
+            self.gui.show_error(message, self.server.get_clients().values())
             return exc
         with self._lock:
             self.error = None

@@ -101,3 +101,26 @@ def test_status_and_error_texts() -> None:
     assert "3.33 s" in text and "30 fps" in text
     box = error_markdown("walk.gait:6:11: unknown gait 'rnu' (did you mean 'run'?)")
     assert "walk.gait:6:11" in box and "last good clip" in box
+
+
+def test_an_engine_bug_is_reported_in_the_page_and_the_clip_kept(tmp_path: Path) -> None:
+    from preview_synthetic import synthetic_clip
+
+    clip = synthetic_clip()
+    calls: list[Path] = []
+
+    def loader(path: Path):  # type: ignore[no-untyped-def]
+        calls.append(path)
+        if len(calls) > 1:
+            raise RuntimeError("matrix not positive definite")
+        return clip
+
+    script = tmp_path / "x.gait"
+    script.write_text("walk 30\n")
+    with PreviewApp(script, port=free_port(), watch=False, loader=loader) as app:
+        assert app.clip is clip
+        assert not app.reload().ok
+        assert app.clip is clip
+        assert app.error is not None
+        assert "internal error" in app.error and "matrix not positive definite" in app.error
+        assert app.gui.error_box.visible
