@@ -28,7 +28,9 @@ from animstudio.errors import AnimstudioError, ScriptErrors
     help="Kohonen weights whose gait names the script may use (default: the shipped weights).",
 )
 def check_command(scripts: tuple[Path, ...], simulate: bool, weights: Path | None) -> None:
-    """Check one or more SCRIPTS and print every problem with its file:line:column.
+    """Validate scripts without rendering them.
+
+    Prints each problem as file:line:col: message.
 
     Exits 0 when every script is valid (and, with --simulate, nobody falls), 1 otherwise.
     """
@@ -51,7 +53,7 @@ def check_command(scripts: tuple[Path, ...], simulate: bool, weights: Path | Non
         summary = (
             f"{path}: ok ({len(script.segments)} segments, {script.total_frames} frames = "
             f"{script.duration_s:.2f} s at {script.fps} fps, engine {script.engine}, "
-            f"{len(script.events)} events)"
+            f"{len(script.events)} event{'s' if len(script.events) != 1 else ''})"
         )
         if simulate:
             try:
