@@ -33,6 +33,7 @@ from animstudio.preview.pose import PosedClip, pose_clip
 from animstudio.preview.scene import CharacterView
 from animstudio.preview.source import load_clip
 from animstudio.preview.watch import FileWatcher
+from animstudio.rig.proportions import HEIGHT_M
 
 log = logging.getLogger(__name__)
 
@@ -366,7 +367,7 @@ class PreviewApp:
         # Frame the character by its size: a hexapod is a third of a humanoid's height.
         with self._lock:
             posed = self._posed
-        size = 1.75
+        size = HEIGHT_M  # before the first clip: the shipped humanoid
         if posed is not None:
             mesh = posed.clip.mesh
             points = mesh.vertices if mesh is not None else posed.bind_positions
