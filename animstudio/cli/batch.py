@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 
 from animstudio.cli import main
-from animstudio.cli.common import is_terminal, reports_errors, warn
+from animstudio.cli.common import is_terminal, reports_errors, warn, weights_option
 from animstudio.errors import lookup
 from animstudio.export.formats import FORMATS
 
@@ -60,12 +60,7 @@ def _parse_formats(value: str) -> tuple[str, ...]:
     metavar="tcp://HOST:PORT",
     help="Run the jobs on this Dask distributed scheduler (shared file system needed).",
 )
-@click.option(
-    "--weights",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Kohonen weights file for every script (default: the shipped weights).",
-)
+@weights_option
 @reports_errors
 def batch_command(
     input_dir: Path,

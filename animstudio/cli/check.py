@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from animstudio.cli import main
-from animstudio.cli.common import warn
+from animstudio.cli.common import warn, weights_option
 from animstudio.engines import EngineOptions
 from animstudio.errors import AnimstudioError, ScriptErrors
 
@@ -21,12 +21,7 @@ from animstudio.errors import AnimstudioError, ScriptErrors
     help="Also run the engine (without exporting) and report what happens, "
     "e.g. a walker that falls.",
 )
-@click.option(
-    "--weights",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Kohonen weights whose gait names the script may use (default: the shipped weights).",
-)
+@weights_option
 def check_command(scripts: tuple[Path, ...], simulate: bool, weights: Path | None) -> None:
     """Validate scripts without rendering them.
 

@@ -6,6 +6,7 @@ import functools
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from typing import ParamSpec, TypeVar
 
 import click
@@ -34,6 +35,15 @@ def reports_errors(func: Callable[P, R]) -> Callable[P, R]:
             sys.exit(130)
 
     return wrapper
+
+
+weights_option = click.option(
+    "--weights",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Kohonen weights file from 'animstudio train' (default: the shipped weights).",
+)
+"""The ``--weights`` option of every command that runs the Kohonen engine."""
 
 
 def warn(message: str) -> None:

@@ -12,7 +12,7 @@ from types import FrameType
 import click
 
 from animstudio.cli import main
-from animstudio.cli.common import reports_errors, warn
+from animstudio.cli.common import reports_errors, warn, weights_option
 from animstudio.engines import EngineOptions
 
 
@@ -36,12 +36,7 @@ def is_loopback(host: str) -> bool:
 @click.argument("source", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--host", default="127.0.0.1", show_default=True, help="Interface to listen on.")
 @click.option("--port", default=8080, show_default=True, type=click.IntRange(1, 65535))
-@click.option(
-    "--weights",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Kohonen weights file from 'animstudio train' (default: the shipped weights).",
-)
+@weights_option
 @reports_errors
 def preview_command(source: Path, host: str, port: int, weights: Path | None) -> None:
     """Preview SOURCE (a .gait script, or an exported .usda/.usdc/.usd) in the browser.

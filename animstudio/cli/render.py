@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from animstudio.cli import main
-from animstudio.cli.common import reports_errors, stages, warn
+from animstudio.cli.common import reports_errors, stages, warn, weights_option
 from animstudio.engines import EngineOptions
 from animstudio.export.formats import FORMATS, writer_for
 
@@ -24,12 +24,7 @@ DEFAULT_EXPORT_DIR = Path("exports")
     help=f"Output file; its extension picks the format ({', '.join(FORMATS)}). "
     "Default: exports/<script name>.usda.",
 )
-@click.option(
-    "--weights",
-    type=click.Path(dir_okay=False, path_type=Path),
-    default=None,
-    help="Kohonen weights file from 'animstudio train' (default: the shipped weights).",
-)
+@weights_option
 @reports_errors
 def render_command(script: Path, output: Path | None, weights: Path | None) -> None:
     """Render SCRIPT (a .gait file) to an animation file.
