@@ -1,7 +1,7 @@
 """Derive the training cycles in ``training_data/`` from the shared reference trials.
 
 ``python -m animstudio.gaitdata.derive SRC_DIR OUT_DIR`` regenerates ``OUT_DIR/<gait>.csv`` from
-``SRC_DIR`` (``/work/shared/reference_gait``: one real trial per gait, right leg, sagittal plane,
+``SRC_DIR`` (``../shared/reference_gait``: one real trial per gait, right leg, sagittal plane,
 30 fps; see its SOURCES.md). Per gait (docs/training-data.md has the numbers):
 
 1. Detect heel strikes and toe-offs (:mod:`animstudio.gaitdata.events`).

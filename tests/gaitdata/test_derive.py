@@ -14,7 +14,8 @@ from animstudio.gaitdata.events import detect_events
 
 ROOT = Path(__file__).resolve().parents[2]
 TRAINING_DATA = ROOT / "training_data"
-REFERENCE = Path("/work/shared/reference_gait")
+# The workplace lays shared/ beside the checkout (for CI too: a copy beside the clean clone).
+REFERENCE = ROOT.parent / "shared" / "reference_gait"
 
 needs_reference = pytest.mark.skipif(
     not REFERENCE.is_dir(),
