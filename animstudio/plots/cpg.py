@@ -158,11 +158,11 @@ def plot(script: Script, kind: str, out_path: Path, *, options: EngineOptions) -
 
 
 def render_paper_figures(out_dir: Path) -> list[Path]:
-    """The successive-push experiment (docs/cpg-model.md §5) as cpg_{stick,neurons,torque}.png."""
-    from animstudio.sim.cpg.experiments import successive_pushes
+    """The successive-push experiment (docs/cpg-model.md §4) as cpg_{stick,neurons,torque}.png."""
+    from animstudio.sim.cpg.experiments import SERIES_500, successive_pushes
 
     params = CpgParams()
-    result = successive_pushes(params)
+    result = successive_pushes(params, SERIES_500, duration_s=10.0)
     paths = []
     for kind in KINDS:
         path = Path(out_dir) / f"cpg_{kind}.png"

@@ -23,6 +23,8 @@ from animstudio.sim.cpg.params import (
     I_BB,
     I_BG,
     I_BP,
+    I_BSP_GATE,
+    I_BSP_REPLACES,
     I_DELTA,
     I_FB,
     I_G,
@@ -229,11 +231,11 @@ def rhs(
     # --- posture modulation torque (2.4): while p fires and the foot swings, a PD (damping sign
     # restored) drives the knee to φc from either side, clamped to ±δ by f_m (docs §2.4: the
     # printed gate g(x3 - x4 - φc) with the antagonist -α f(u_p) only reaches φc + α f/pp1, about
-    # φc + 0.08π, so no small φc is possible; α = 0 by default keeps the term for the literal
-    # reading). φc = 0 is the paper's normal walking "without posture modulation": no T_BSP.
-    # With φc > 0 the posture controller governs the knee in that window (Fig. 3: knee = neurons
-    # 3-4-p1) and the CPG knee torque is withheld: its extensor (~100 Nm at the walking gains)
-    # would otherwise overpower |T_BSP| <= δ = 90 Nm.
+    # φc + 0.08π, so no small φc is possible; bsp_literal_gate = 1 and α > 0 give that reading).
+    # φc = 0 is the paper's normal walking "without posture modulation": no T_BSP. T_BSP is added
+    # to the CPG knee torque as Appendix A prints q3, q4; with pp1, pp2, δ scaled like the CPG
+    # gains it can hold the knee against the extensor ("coactivation", §2.4).
+    # bsp_replaces_cpg = 1 withholds the CPG knee torque in that window (the earlier reading).
     delta = p[I_DELTA]
     bsp_l = 0.0
     bsp_r = 0.0
@@ -241,13 +243,19 @@ def rhs(
         if phic_l > 0.0 and u[12] > 0.0 and yl > 0.0:
             k = x3 - x4 - phic_l
             t_l = p[I_PP1] * k + p[I_PP2] * (d3 - d4)
+            if p[I_BSP_GATE] > 0.5 and k <= 0.0:
+                t_l = 0.0
             bsp_l = min(delta, max(-delta, t_l - p[I_ALPHA] * fu[12]))
-            knee_l = tk_l
+            if p[I_BSP_REPLACES] > 0.5:
+                knee_l = tk_l
         if phic_r > 0.0 and u[13] > 0.0 and yr > 0.0:
             k = x5 - x6 - phic_r
             t_r = p[I_PP1] * k + p[I_PP2] * (d5 - d6)
+            if p[I_BSP_GATE] > 0.5 and k <= 0.0:
+                t_r = 0.0
             bsp_r = min(delta, max(-delta, t_r - p[I_ALPHA] * fu[13]))
-            knee_r = tk_r
+            if p[I_BSP_REPLACES] > 0.5:
+                knee_r = tk_r
 
     # --- passive torques: knee hyper-extension stop (one-sided damping) and joint viscosity
     b = p[I_B]

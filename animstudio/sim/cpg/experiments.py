@@ -25,7 +25,9 @@ PUSH_S = 0.1
 """Duration of every push in the paper's experiments."""
 SERIES: tuple[tuple[float, float], ...] = ((2.1, 400.0), (2.7, 150.0))
 """The successive backward pushes ``(start s, force N)`` from a left BSP at t = 0: 400 N, then
-150 N 0.6 s later, within one stride (docs/cpg-model.md §5)."""
+150 N 0.6 s later, within one stride (docs/cpg-model.md §4)."""
+SERIES_500: tuple[tuple[float, float], ...] = (*SERIES, (4.5, 500.0))
+""":data:`SERIES` and a third push of 500 N at 4.5 s, the issue's "up to 500 N" (docs §4)."""
 
 
 def normal_walking(

@@ -27,8 +27,9 @@ N_STATE = 12 + 2 * N_NEURONS
     I_P1, I_P2, I_P3, I_P4, I_P5, I_P6,
     I_PE1, I_PV1, I_PE2, I_PV2, I_PP1, I_PP2, I_ALPHA, I_DELTA, I_XH, I_XK,
     I_G, I_GAMMA, I_T, I_A, I_BB, I_FB, I_HYST, I_HIP_GATE, I_ANKLE_GATE,
-) = range(39)  # fmt: skip
-N_PARAMS = 39
+    I_BSP_REPLACES, I_BSP_GATE,
+) = range(41)  # fmt: skip
+N_PARAMS = 41
 
 
 @dataclass(frozen=True)
@@ -41,9 +42,11 @@ class CpgParams:
         kg, bg: ground spring (N/m) and damper (N s/m), eq. A ground forces.
         kp, bp: knee hyper-extension stop (Nm/rad, Nm s/rad); b: joint viscosity (Nm s/rad).
         p1..p6: active torque gains (Nm per unit neuron output) [§2.6: gain_scale applied].
+        pp1, pp2, alpha, delta: the posture controller's torque constants (2.4), scaled by the
+            same gain_scale as p1..p6: they are neural torques too [§2.4].
         pe1, pv1: hip-range stop; pe2, pv2: knee-range stop (restoring, [§2.4]).
         pp1, pp2: posture-controller knee stiffness/damping (2.4) [§2.4 sign].
-        alpha: antagonist weight of the posture neuron in (2.4) [§2.7]; delta: torque limit f_m.
+        alpha: antagonist weight of the posture neuron in (2.4) [§2.4]; delta: torque limit f_m.
         xh: hip range (rad); xk: knee range (rad).
         g: gravity (m/s²). gamma: tonic input u0 [§2.6]; T: hip height below which u0 = 0 (2.2).
         a, b_bvp: BVP constants. feedback_gain: scale of the thigh-angle feedback E.
@@ -53,6 +56,10 @@ class CpgParams:
         ankle_swing_flexor: 1 gates only the p6 term of the ankle torque by stance (the literal
             print), 0 (default) gates the whole ankle torque: no foot, no torque in swing [§2.4].
         u1_init: u1(0), the symmetry breaker of the initial condition [§2.8].
+        bsp_replaces_cpg: 0 (default) adds T_BSP to the CPG knee torque, as Appendix A prints
+            q3, q4; 1 withholds the CPG knee torque while T_BSP acts (the earlier reading) [§2.4].
+        bsp_literal_gate: 1 applies the printed gate g(x3 - x4 - φc) (T_BSP only extends,
+            flexion from -α f(u_p)); 0 (default) a two-sided PD to φc [§2.4].
         tau, tau_rate: per-neuron time constant τ_i (s) and accommodation rate τ'_i (1/s) [§2.1].
     """
 
@@ -97,6 +104,8 @@ class CpgParams:
     hip_stop_gated: float = 0.0
     ankle_swing_flexor: float = 0.0
     u1_init: float = 0.224
+    bsp_replaces_cpg: float = 0.0
+    bsp_literal_gate: float = 0.0
 
     @property
     def body_mass_kg(self) -> float:
@@ -117,17 +126,18 @@ class CpgParams:
         return CpgParams(**values)
 
     def packed(self) -> NDArray[np.float64]:
-        """The ``(N_PARAMS,)`` vector the kernels read (gains already multiplied by gain_scale)."""
+        """The ``(N_PARAMS,)`` vector the kernels read (neural gains multiplied by gain_scale)."""
         s = self.gain_scale
         return np.array(
             [
                 self.m1, self.m2, self.m3, self.m4, self.m5, self.l1, self.l2, self.l3, self.l4,
                 self.kg, self.bg, self.kp, self.bp, self.b,
                 s * self.p1, s * self.p2, s * self.p3, s * self.p4, s * self.p5, s * self.p6,
-                self.pe1, self.pv1, self.pe2, self.pv2, self.pp1, self.pp2, self.alpha,
-                self.delta, self.xh, self.xk,
+                self.pe1, self.pv1, self.pe2, self.pv2, s * self.pp1, s * self.pp2, s * self.alpha,
+                s * self.delta, self.xh, self.xk,
                 self.g, self.gamma, self.T, self.a, self.b_bvp, self.feedback_gain,
                 self.contact_hysteresis_m, self.hip_stop_gated, self.ankle_swing_flexor,
+                self.bsp_replaces_cpg, self.bsp_literal_gate,
             ],
             dtype=np.float64,
         )  # fmt: skip

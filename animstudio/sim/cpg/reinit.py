@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from animstudio.sim.cpg.analysis import LimitCycle, limit_cycle, section_distance
-from animstudio.sim.cpg.batch import run_walkers
+from animstudio.sim.cpg.batch import BatchResult, run_walkers
 from animstudio.sim.cpg.model import (
     DT_S,
     FALL_HEIGHT_M,
@@ -45,6 +45,8 @@ ON_CYCLE = 0.3
 """... and after that until a landing is this close to the cycle (scaled Poincaré distance)."""
 FOLLOW_UP_RAD: NDArray[np.float64] = np.linspace(0.0, 0.3 * np.pi, 8)
 """φc values tried for the landing after the candidate's (the second look-ahead level)."""
+BEAM = 8
+"""(candidate, follow-up) pairs taken one landing further (the third look-ahead level)."""
 _FALL = 1e6
 """Score of a fall (minus how long the walker lasted): worse than any walk."""
 
@@ -92,47 +94,80 @@ def choose_phi_c(
     *,
     candidates: NDArray[np.float64] = PHI_C_CANDIDATES_RAD,
     follow_up: NDArray[np.float64] = FOLLOW_UP_RAD,
+    beam: int = BEAM,
     dt: float = DT_S,
 ) -> Decision:
-    """Pick φc for the next landing by a two-step look-ahead (two parallel batches).
+    """Pick φc for the next landing by a three-landing look-ahead (parallel batches).
 
     Every candidate is simulated to its landing; from each landing every ``follow_up`` value is
     tried for the landing after it (then φc = 0) over :data:`HORIZON_S`. A candidate scores the
     best of its follow-ups: the controller will decide again at that landing, so judging a
     candidate by φc = 0 afterwards would reject first steps that need one more corrected step.
+    The ``beam`` best (candidate, follow-up) pairs are then taken one landing further and every
+    ``follow_up`` value is tried for the third landing: after a hard push a walker may need
+    three corrected steps, and a two-landing look-ahead sees every candidate fall (docs §4.5).
     """
     n = candidates.shape[0]
+    m = follow_up.shape[0]
     pushes = list(known_pushes)
-    first = run_walkers(
-        model, [state] * n, HORIZON_S, pushes=[pushes] * n, phi_c=candidates,
-        phi_c_until_bsp=True, dt=dt, fall_height_m=FALL_HEIGHT_M, stop_at_bsp=1,
-    )  # fmt: skip
+
+    def batch(starts: list[CpgState], phi: NDArray[np.float64], stop: int) -> BatchResult:
+        return run_walkers(
+            model, starts, HORIZON_S, pushes=[pushes] * len(starts), phi_c=phi,
+            phi_c_until_bsp=True, dt=dt, fall_height_m=FALL_HEIGHT_M, stop_at_bsp=stop,
+        )  # fmt: skip
+
+    def landed(res: BatchResult, i: int) -> bool:
+        return not res.fell[i] and res.bsp_leg[i, 0] != 0
+
+    def tails(res: BatchResult, k: int, base: float, t0: float) -> list[float]:
+        # walkers k*m .. k*m+m-1 of ``res`` are one start's follow-ups, started at t0
+        return [
+            base
+            + _score(
+                cycle, t0, res.bsp_y[k * m + j], res.bsp_leg[k * m + j], res.fall_t_s[k * m + j]
+            )
+            for j in range(m)
+        ]
+
+    first = batch([state] * n, candidates, 1)
     scores = np.full(n, np.inf)
     alive = []
     for i in range(n):
-        if first.fell[i] or first.bsp_leg[i, 0] == 0:
+        if landed(first, i):
+            alive.append(i)
+        else:
             fall = first.fall_t_s[i] if first.fell[i] else first.end_t_s[i]
             scores[i] = _FALL - (fall - state.t_s)
-        else:
-            alive.append(i)
     if alive:
-        m = follow_up.shape[0]
-        starts = [first.final_state(i) for i in alive for _ in range(m)]
-        second = run_walkers(
-            model, starts, HORIZON_S, pushes=[pushes] * len(starts),
-            phi_c=np.tile(follow_up, len(alive)), phi_c_until_bsp=True, dt=dt,
-            fall_height_m=FALL_HEIGHT_M,
-        )  # fmt: skip
+        second = batch(
+            [first.final_state(i) for i in alive for _ in range(m)],
+            np.tile(follow_up, len(alive)),
+            0,
+        )
+        pairs: list[tuple[float, int, int, float]] = []  # (score, candidate, follow-up, d0)
         for a, i in enumerate(alive):
             d0 = section_distance(cycle, first.bsp_y[i, :1], first.bsp_leg[i, :1])[0]
-            child = [
-                _score(
-                    cycle, first.end_t_s[i], second.bsp_y[a * m + j], second.bsp_leg[a * m + j],
-                    second.fall_t_s[a * m + j],
-                )
-                for j in range(m)
-            ]  # fmt: skip
-            scores[i] = d0 + min(child)
+            child = tails(second, a, d0, float(first.end_t_s[i]))
+            scores[i] = min(child)
+            pairs += [(child[j], i, j, d0) for j in range(m)]
+        pairs.sort()
+        top = pairs[:beam]
+        if top and beam > 0:
+            mid = batch(
+                [first.final_state(i) for _, i, _, _ in top],
+                np.array([follow_up[j] for _, _, j, _ in top]), 1,
+            )  # fmt: skip
+            deep = [k for k in range(len(top)) if landed(mid, k)]
+            if deep:
+                third = batch(
+                    [mid.final_state(k) for k in deep for _ in range(m)],
+                    np.tile(follow_up, len(deep)), 0,
+                )  # fmt: skip
+                for a, k in enumerate(deep):
+                    _, i, _, d0 = top[k]
+                    d1 = section_distance(cycle, mid.bsp_y[k, :1], mid.bsp_leg[k, :1])[0]
+                    scores[i] = min(scores[i], min(tails(third, a, d0 + d1, float(mid.end_t_s[k]))))
     best = int(np.argmin(scores))  # ties go to the smallest φc (candidates ascend from 0)
     return Decision(state.t_s, float(candidates[best]), tuple(candidates.tolist()), tuple(scores))
 

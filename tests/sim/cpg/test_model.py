@@ -142,6 +142,40 @@ def test_rhs_reports_torques_and_is_finite() -> None:
     assert aux[0] == pytest.approx((p.p1 - p.p2) * p.gain_scale * 1.5)
 
 
+def _knee_torques(p: CpgParams, phi_c: float) -> np.ndarray:
+    """aux of a walker with its left foot 5 cm up, left knee flexed 0.3π, p1 firing."""
+    model = Model.build(p)
+    y = init(p).y.copy()
+    y[1] += 0.05
+    y[2], y[3] = 0.2 * np.pi, -0.1 * np.pi  # knee angle x3 - x4 = 0.3π
+    y[12:26] = -1.0
+    y[12 + 2] = 1.5  # neuron 3 (knee extensor) and p1 fire
+    y[12 + 12] = 1.5
+    dy = np.zeros(N_STATE)
+    aux = np.zeros(N_AUX)
+    args = (model.packed, model.tau, model.rate, model.w, y, np.zeros(4), 0.0, phi_c, 0.0, 1.0)
+    rhs(*args, dy, aux, np.zeros(N_WORK))
+    return aux
+
+
+def test_posture_torque_is_added_to_the_cpg_knee_torque() -> None:
+    # Appendix A: q3 has -Tr2 - T_BSPl, q4 has +Tr2 + T_BSPl; both act at once (docs §2.4)
+    p = CpgParams()
+    free = _knee_torques(p, 0.0)
+    aux = _knee_torques(p, 0.1 * np.pi)
+    assert free[6] == 0.0  # φc = 0: no posture modulation at all
+    assert aux[1] == pytest.approx(p.p3 * p.gain_scale * 1.5)  # the CPG knee torque stays
+    # the knee is 0.2π past φc: the PD saturates at +δ (extension), δ scaled like the gains
+    assert aux[6] == pytest.approx(p.delta * p.gain_scale)
+    # the old reading withheld the CPG knee torque in that window
+    replaced = _knee_torques(p.replace(bsp_replaces_cpg=1.0), 0.1 * np.pi)
+    assert replaced[1] == 0.0 and replaced[6] == aux[6]
+    # the printed one-sided gate: below φc no PD, only the antagonist -α f(u_p)
+    lit = p.replace(bsp_literal_gate=1.0, alpha=50.0)
+    below = _knee_torques(lit, 0.35 * np.pi)
+    assert below[6] == pytest.approx(-50.0 * p.gain_scale * 1.5)
+
+
 def test_blow_up_is_a_simulation_error() -> None:
     p = CpgParams()
     with pytest.raises(SimulationError, match="non-finite"):
