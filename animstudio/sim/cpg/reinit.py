@@ -2,8 +2,9 @@
 
 ``reinit auto`` (the product default) decides φc at every beginning of stance (BSP) for a few
 steps after each push, and again right after each push ends: it simulates every candidate φc
-ahead in one parallel batch — φc acting until the next BSP, 0 afterwards, with the pushes that
-have already begun — and keeps the candidate whose walker comes back to the limit cycle fastest
+ahead in parallel batches — φc acting until the next BSP, then the best of a few follow-up
+values for the next one or two landings, with the pushes that have already begun — and keeps
+the candidate whose walker comes back to the limit cycle fastest
 (smallest summed Poincaré distance over the following BSPs; a fall is worst, a later fall
 less bad). Pushes that have not begun yet are unknown to it, as to a walker. ``reinit off``
 keeps φc = 0 throughout: the paper's normal walking.
@@ -105,7 +106,7 @@ def choose_phi_c(
     candidate by φc = 0 afterwards would reject first steps that need one more corrected step.
     The ``beam`` best (candidate, follow-up) pairs are then taken one landing further and every
     ``follow_up`` value is tried for the third landing: after a hard push a walker may need
-    three corrected steps, and a two-landing look-ahead sees every candidate fall (docs §4.5).
+    three corrected steps, and a two-landing look-ahead sees every candidate fall (docs §4, 5).
     """
     n = candidates.shape[0]
     m = follow_up.shape[0]
