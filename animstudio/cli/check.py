@@ -10,7 +10,7 @@ import click
 from animstudio.cli import main
 from animstudio.cli.common import warn, weights_option
 from animstudio.engines import EngineOptions
-from animstudio.errors import AnimstudioError, ScriptErrors
+from animstudio.errors import AnimstudioError, ScriptError, ScriptErrors
 
 
 @main.command("check")
@@ -39,6 +39,10 @@ def check_command(scripts: tuple[Path, ...], simulate: bool, weights: Path | Non
         except ScriptErrors as exc:
             for err in exc.errors:
                 click.echo(str(err), err=True)
+            failed = True
+            continue
+        except ScriptError as exc:  # a syntax error stops parsing at the first problem
+            click.echo(str(exc), err=True)
             failed = True
             continue
         except AnimstudioError as exc:

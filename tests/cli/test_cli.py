@@ -122,7 +122,7 @@ def test_check_several_files_fails_if_any_fails(tmp_path: Path) -> None:
     code, out, stderr = run("check", str(DEMO), str(bad))
     assert code == 1
     assert "demo.gait: ok" in out
-    assert f"{bad}:1:" in stderr
+    assert stderr.startswith(f"{bad}:1:1: ")  # located, like a compiler: no "error:" prefix
 
 
 def test_console_entry_point_never_shows_a_traceback(tmp_path: Path) -> None:
